@@ -1,0 +1,33 @@
+# pdgrain front door. `make demo` and `make test` do everything on a fresh Debian 12 machine.
+BUILD ?= build
+JOBS ?= 2
+CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
+
+.PHONY: all deps configure build test demo bench format clean
+
+all: build
+
+deps:
+	@bash tools/install-deps.sh
+
+$(BUILD)/build.ninja: | deps
+	@mkdir -p $(BUILD)
+	@cmake -S . -B $(BUILD) $(CMAKE_FLAGS) > $(BUILD)/configure.log 2>&1 || \
+	  { cat $(BUILD)/configure.log; exit 1; }
+
+configure: deps $(BUILD)/build.ninja
+
+build: configure
+	@cmake --build $(BUILD) -j $(JOBS)
+
+test: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+demo: build
+	@bash workflows/demo/run.sh $(BUILD)
+
+format:
+	@find lib tools tests -name '*.cpp' -o -name '*.hpp' | xargs clang-format-14 -i
+
+clean:
+	@rm -rf $(BUILD)

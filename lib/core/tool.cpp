@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+#include "core/tool.hpp"
+
+#include "core/errors.hpp"
+#include "core/mpi.hpp"
+#include "core/version.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <ctime>
+#include <exception>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace pd {
+
+void add_common_flags(CLI::App& app, CommonOptions& opt) {
+    app.add_flag("-q,--quiet", opt.quiet, "print errors and warnings only");
+    app.add_flag("-v,--verbose", opt.verbose, "print debug messages");
+    app.set_version_flag("--version", fmt::format("{} (pdgrain) {} git {}", app.get_name(),
+                                                  pd::version, pd::git_commit));
+}
+
+std::string utc_now() {
+    std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return buf;
+}
+
+int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions& opt,
+             const std::function<void(Context&)>& body) {
+    mpi::Session session(&argc, &argv);
+    Verbosity v = opt.quiet ? Verbosity::quiet : opt.verbose ? Verbosity::debug : Verbosity::normal;
+    Context ctx{Log(tool, session.rank(), v), {}, session.rank(), session.size(), {}};
+    ctx.run.tool = tool;
+    ctx.run.version = pd::version;
+    ctx.run.git_commit = pd::git_commit;
+    for (int i = 0; i < argc; ++i)
+        ctx.run.command_line += (i ? " " : "") + std::string(argv[i]);
+    ctx.run.start_time = utc_now();
+    ctx.run.mpi_ranks = session.size();
+#ifdef _OPENMP
+    ctx.run.threads = omp_get_max_threads();
+#endif
+    int code = exit_ok;
+    try {
+        body(ctx);
+    } catch (const InputError& e) {
+        ctx.log.error(e.what());
+        code = exit_input;
+    } catch (const NumericalError& e) {
+        ctx.log.error(e.what());
+        code = exit_numerical;
+    } catch (const std::exception& e) {
+        ctx.log.error(e.what());
+        code = exit_internal;
+    }
+    if (ctx.on_exit) {
+        try {
+            ctx.on_exit(code);
+        } catch (const std::exception& e) {
+            ctx.log.error(std::string("while recording provenance: ") + e.what());
+            if (code == exit_ok)
+                code = exit_internal;
+        }
+    }
+    if (code != exit_ok && session.size() > 1)
+        MPI_Abort(MPI_COMM_WORLD, code);
+    return code;
+}
+
+} // namespace pd

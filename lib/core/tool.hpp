@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+// run_tool(): the one startup of every pd-* executable. It opens the MPI session, builds the
+// Context (log, ranks, threads, provenance) and maps exceptions to exit codes:
+// 0 ok, 2 bad input, 3 numerical failure, 4 internal error (CLI11 usage errors keep CLI11's codes).
+#pragma once
+
+#include "core/log.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace pd {
+
+enum ExitCode : int { exit_ok = 0, exit_input = 2, exit_numerical = 3, exit_internal = 4 };
+
+/// Options every tool shares.
+struct CommonOptions {
+    bool quiet = false;
+    bool verbose = false;
+};
+
+/// What one tool run records about itself in /provenance.
+struct RunInfo {
+    std::string tool;
+    std::string version;
+    std::string git_commit;
+    std::string command_line;
+    std::string start_time; ///< ISO 8601, UTC
+    int mpi_ranks = 1;
+    int threads = 1;
+};
+
+/// Per-run context handed to the pipeline function.
+struct Context {
+    Log log;
+    RunInfo run;
+    int rank = 0;
+    int size = 1;
+    /// Set by a pipeline step that owns a file: called once with the exit code before exit,
+    /// so the file records the run's status in /provenance even when the run failed.
+    std::function<void(int exit_code)> on_exit;
+};
+
+/// Adds --quiet, -v/--verbose and --version to a CLI11 app.
+void add_common_flags(CLI::App& app, CommonOptions& opt);
+
+/// ISO 8601 UTC time of now ("2026-11-23T13:38:05Z").
+std::string utc_now();
+
+/// Runs `body` inside the MPI session; returns the exit code.
+int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions& opt,
+             const std::function<void(Context&)>& body);
+
+} // namespace pd

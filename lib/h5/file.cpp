@@ -1,0 +1,570 @@
+// SPDX-License-Identifier: MIT
+#include "h5/file.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <numeric>
+
+namespace pd::h5 {
+
+namespace {
+
+herr_t walk_cb(unsigned n, const H5E_error2_t* e, void* data) {
+    auto* s = static_cast<std::string*>(data);
+    if (n < 3 && e->desc && *e->desc)
+        *s += (s->empty() ? "" : "; ") + std::string(e->desc);
+    return 0;
+}
+
+std::string error_stack() {
+    std::string s;
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_cb, &s);
+    H5Eclear2(H5E_DEFAULT);
+    return s;
+}
+
+struct SilenceHdf5 {
+    SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+};
+const SilenceHdf5 silence_once;
+
+template <class T>
+hid_t native() {
+    if constexpr (std::is_same_v<T, double>)
+        return H5T_NATIVE_DOUBLE;
+    else if constexpr (std::is_same_v<T, float>)
+        return H5T_NATIVE_FLOAT;
+    else if constexpr (std::is_same_v<T, std::int32_t>)
+        return H5T_NATIVE_INT32;
+    else if constexpr (std::is_same_v<T, std::int64_t>)
+        return H5T_NATIVE_INT64;
+    else if constexpr (std::is_same_v<T, std::uint8_t>)
+        return H5T_NATIVE_UINT8;
+    else
+        return H5T_NATIVE_UINT64;
+}
+
+std::vector<hsize_t> to_h(const dims_t& d) { return {d.begin(), d.end()}; }
+
+std::uint64_t product(const dims_t& d) {
+    return std::accumulate(d.begin(), d.end(), std::uint64_t{1}, std::multiplies<>{});
+}
+
+Handle vlen_string_type() {
+    Handle t(H5Tcopy(H5T_C_S1));
+    H5Tset_size(t.get(), H5T_VARIABLE);
+    H5Tset_cset(t.get(), H5T_CSET_UTF8);
+    return t;
+}
+
+std::string parent_of(const std::string& path) {
+    auto p = path.find_last_of('/');
+    return p == 0 || p == std::string::npos ? "/" : path.substr(0, p);
+}
+
+} // namespace
+
+Error::Error(const std::string& file, const std::string& path, const std::string& what)
+    : InputError(fmt::format("{}: {}: {}", file, path, what)) {}
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+    if (this != &o) {
+        this->~Handle();
+        id_ = o.id_;
+        o.id_ = -1;
+    }
+    return *this;
+}
+
+Handle::~Handle() {
+    if (id_ < 0)
+        return;
+    switch (H5Iget_type(id_)) {
+    case H5I_FILE: H5Fclose(id_); break;
+    case H5I_GROUP: H5Gclose(id_); break;
+    case H5I_DATASET: H5Dclose(id_); break;
+    case H5I_DATASPACE: H5Sclose(id_); break;
+    case H5I_DATATYPE: H5Tclose(id_); break;
+    case H5I_ATTR: H5Aclose(id_); break;
+    case H5I_GENPROP_LST: H5Pclose(id_); break;
+    default: break;
+    }
+    id_ = -1;
+}
+
+bool is_hdf5(const std::string& name) {
+    htri_t r = H5Fis_hdf5(name.c_str());
+    H5Eclear2(H5E_DEFAULT);
+    return r > 0;
+}
+
+void File::fail(const std::string& path, const std::string& what) const {
+    std::string stack = error_stack();
+    throw Error(name_, path, stack.empty() ? what : what + " (" + stack + ")");
+}
+
+File::File(const std::string& name, Mode mode, const void* mpi_comm) : name_(name) {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+    xfer_ = Handle(H5Pcreate(H5P_DATASET_XFER));
+    if (mpi_comm) {
+        MPI_Comm comm = *static_cast<const MPI_Comm*>(mpi_comm);
+        if (H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL) < 0)
+            fail("/", "cannot set the MPI-IO driver");
+        H5Pset_dxpl_mpio(xfer_.get(), H5FD_MPIO_COLLECTIVE);
+    }
+    hid_t id = -1;
+    if (mode == Mode::create_truncate) {
+        id = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+        if (id < 0)
+            fail("/", "cannot create the file");
+    } else {
+        if (!is_hdf5(name))
+            throw Error(name, "/", "not an HDF5 file, or unreadable (missing or truncated?)");
+        id = H5Fopen(name.c_str(), mode == Mode::read ? H5F_ACC_RDONLY : H5F_ACC_RDWR,
+                     fapl.get());
+        if (id < 0)
+            fail("/", mode == Mode::read ? "cannot open for reading" : "cannot open for writing");
+    }
+    id_ = Handle(id);
+}
+
+void File::flush() {
+    if (H5Fflush(id_.get(), H5F_SCOPE_LOCAL) < 0)
+        fail("/", "flush failed");
+}
+
+bool File::exists(const std::string& path) const {
+    if (path == "/")
+        return true;
+    std::string cur;
+    std::size_t start = 1;
+    while (start <= path.size()) {
+        auto end = path.find('/', start);
+        if (end == std::string::npos)
+            end = path.size();
+        cur += "/" + path.substr(start, end - start);
+        htri_t r = H5Lexists(id_.get(), cur.c_str(), H5P_DEFAULT);
+        if (r <= 0) {
+            H5Eclear2(H5E_DEFAULT);
+            return false;
+        }
+        start = end + 1;
+    }
+    return true;
+}
+
+bool File::is_group(const std::string& path) const {
+    if (!exists(path))
+        return false;
+    H5O_info_t info;
+    if (H5Oget_info_by_name(id_.get(), path.c_str(), &info, H5P_DEFAULT) < 0)
+        fail(path, "cannot stat object");
+    return info.type == H5O_TYPE_GROUP;
+}
+
+void File::create_group(const std::string& path) {
+    if (exists(path))
+        return;
+    Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+    H5Pset_create_intermediate_group(lcpl.get(), 1);
+    Handle g(H5Gcreate2(id_.get(), path.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT));
+    if (!g.valid())
+        fail(path, "cannot create group");
+}
+
+void File::ensure_parent(const std::string& path) { create_group(parent_of(path)); }
+
+std::vector<std::string> File::list(const std::string& group) const {
+    Handle g(H5Gopen2(id_.get(), group.c_str(), H5P_DEFAULT));
+    if (!g.valid())
+        fail(group, "missing group");
+    H5G_info_t info;
+    H5Gget_info(g.get(), &info);
+    std::vector<std::string> names;
+    for (hsize_t i = 0; i < info.nlinks; ++i) {
+        ssize_t n = H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                       H5P_DEFAULT);
+        std::string s(static_cast<std::size_t>(n), '\0');
+        H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, s.data(), s.size() + 1,
+                           H5P_DEFAULT);
+        names.push_back(s);
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+void File::remove(const std::string& path) {
+    if (exists(path) && H5Ldelete(id_.get(), path.c_str(), H5P_DEFAULT) < 0)
+        fail(path, "cannot remove");
+}
+
+void File::hard_link(const std::string& target, const std::string& link) {
+    ensure_parent(link);
+    remove(link);
+    if (H5Lcreate_hard(id_.get(), target.c_str(), id_.get(), link.c_str(), H5P_DEFAULT,
+                       H5P_DEFAULT) < 0)
+        fail(link, "cannot link to " + target);
+}
+
+Handle File::open_object(const std::string& path) const {
+    if (!exists(path))
+        throw Error(name_, path, "missing");
+    Handle o(H5Oopen(id_.get(), path.c_str(), H5P_DEFAULT));
+    if (!o.valid())
+        fail(path, "cannot open");
+    return o;
+}
+
+Handle File::open_dataset(const std::string& path) const {
+    if (!exists(path))
+        throw Error(name_, path, "missing dataset");
+    Handle d(H5Dopen2(id_.get(), path.c_str(), H5P_DEFAULT));
+    if (!d.valid())
+        fail(path, "not a dataset, or unreadable");
+    return d;
+}
+
+dims_t File::shape(const std::string& path) const {
+    Handle d = open_dataset(path);
+    Handle s(H5Dget_space(d.get()));
+    int rank = H5Sget_simple_extent_ndims(s.get());
+    if (rank < 0)
+        fail(path, "cannot read shape");
+    std::vector<hsize_t> h(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(s.get(), h.data(), nullptr);
+    return {h.begin(), h.end()};
+}
+
+char File::type_class(const std::string& path) const {
+    Handle d = open_dataset(path);
+    Handle t(H5Dget_type(d.get()));
+    switch (H5Tget_class(t.get())) {
+    case H5T_FLOAT: return 'f';
+    case H5T_INTEGER: return H5Tget_sign(t.get()) == H5T_SGN_NONE ? 'u' : 'i';
+    case H5T_STRING: return 's';
+    default: return '?';
+    }
+}
+
+std::size_t File::type_size(const std::string& path) const {
+    Handle d = open_dataset(path);
+    Handle t(H5Dget_type(d.get()));
+    return H5Tget_size(t.get());
+}
+
+template <Element T>
+void File::write(const std::string& path, std::span<const T> data, const dims_t& dims) {
+    if (product(dims) != data.size())
+        throw InternalError(fmt::format("{}: {}: {} values for shape of {}", name_, path,
+                                        data.size(), product(dims)));
+    ensure_parent(path);
+    remove(path);
+    auto h = to_h(dims);
+    Handle space(H5Screate_simple(static_cast<int>(h.size()), h.data(), nullptr));
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT,
+                        H5P_DEFAULT, H5P_DEFAULT));
+    if (!d.valid())
+        fail(path, "cannot create dataset");
+    if (!data.empty() &&
+        H5Dwrite(d.get(), native<T>(), H5S_ALL, H5S_ALL, xfer_.get(), data.data()) < 0)
+        fail(path, "write failed");
+}
+
+template <Element T>
+void File::write_scalar(const std::string& path, T value) {
+    ensure_parent(path);
+    remove(path);
+    Handle space(H5Screate(H5S_SCALAR));
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT,
+                        H5P_DEFAULT, H5P_DEFAULT));
+    if (!d.valid() || H5Dwrite(d.get(), native<T>(), H5S_ALL, H5S_ALL, xfer_.get(), &value) < 0)
+        fail(path, "cannot write scalar");
+}
+
+void File::write_string(const std::string& path, const std::string& value) {
+    ensure_parent(path);
+    remove(path);
+    Handle t = vlen_string_type();
+    Handle space(H5Screate(H5S_SCALAR));
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), t.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                        H5P_DEFAULT));
+    const char* p = value.c_str();
+    if (!d.valid() || H5Dwrite(d.get(), t.get(), H5S_ALL, H5S_ALL, xfer_.get(), &p) < 0)
+        fail(path, "cannot write string");
+}
+
+template <Element T>
+std::vector<T> File::read(const std::string& path, dims_t* dims) const {
+    Handle d = open_dataset(path);
+    dims_t sh = shape(path);
+    if (type_class(path) == 's')
+        throw Error(name_, path, "holds strings, expected numbers");
+    std::vector<T> out(product(sh));
+    if (!out.empty() &&
+        H5Dread(d.get(), native<T>(), H5S_ALL, H5S_ALL, xfer_.get(), out.data()) < 0)
+        fail(path, "read failed");
+    if (dims)
+        *dims = sh;
+    return out;
+}
+
+template <Element T>
+T File::read_scalar(const std::string& path) const {
+    dims_t sh;
+    auto v = read<T>(path, &sh);
+    if (v.size() != 1)
+        throw Error(name_, path, fmt::format("expected a scalar, found {} values", v.size()));
+    return v[0];
+}
+
+std::string File::read_string(const std::string& path) const {
+    Handle d = open_dataset(path);
+    Handle ft(H5Dget_type(d.get()));
+    if (H5Tget_class(ft.get()) != H5T_STRING)
+        throw Error(name_, path, "expected a string dataset");
+    if (H5Tis_variable_str(ft.get()) > 0) {
+        Handle t = vlen_string_type();
+        char* p = nullptr;
+        if (H5Dread(d.get(), t.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
+            fail(path, "read failed");
+        std::string s = p ? p : "";
+        H5free_memory(p);
+        return s;
+    }
+    std::size_t n = H5Tget_size(ft.get());
+    std::string s(n, '\0');
+    if (H5Dread(d.get(), ft.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data()) < 0)
+        fail(path, "read failed");
+    s.resize(std::strlen(s.c_str()));
+    return s;
+}
+
+template <Element T>
+std::vector<T> File::read_rows(const std::string& path, std::uint64_t row0,
+                               std::uint64_t count) const {
+    Handle d = open_dataset(path);
+    dims_t sh = shape(path);
+    if (sh.empty() || row0 + count > sh[0])
+        throw Error(name_, path, fmt::format("rows [{}, {}) out of range", row0, row0 + count));
+    auto start = std::vector<hsize_t>(sh.size(), 0);
+    auto cnt = to_h(sh);
+    start[0] = row0;
+    cnt[0] = count;
+    Handle fs(H5Dget_space(d.get()));
+    H5Sselect_hyperslab(fs.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
+    Handle ms(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
+    std::vector<T> out(product(dims_t(cnt.begin(), cnt.end())));
+    if (!out.empty() && H5Dread(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(),
+                                out.data()) < 0)
+        fail(path, "read failed");
+    return out;
+}
+
+template <Element T>
+void File::create_extendible(const std::string& path, const dims_t& inner,
+                             std::uint64_t chunk_rows) {
+    ensure_parent(path);
+    remove(path);
+    std::vector<hsize_t> cur{0}, max{H5S_UNLIMITED}, chunk{std::max<std::uint64_t>(1, chunk_rows)};
+    for (auto n : inner) {
+        cur.push_back(n);
+        max.push_back(n);
+        chunk.push_back(std::max<std::uint64_t>(1, n));
+    }
+    Handle space(H5Screate_simple(static_cast<int>(cur.size()), cur.data(), max.data()));
+    Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
+    H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data());
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT,
+                        dcpl.get(), H5P_DEFAULT));
+    if (!d.valid())
+        fail(path, "cannot create extendible dataset");
+}
+
+void File::resize_rows(const std::string& path, std::uint64_t rows) {
+    Handle d = open_dataset(path);
+    auto sh = to_h(shape(path));
+    sh[0] = rows;
+    if (H5Dset_extent(d.get(), sh.data()) < 0)
+        fail(path, "cannot resize (is it extendible?)");
+}
+
+template <Element T>
+void File::write_rows(const std::string& path, std::span<const T> data, std::uint64_t row0,
+                      std::uint64_t rows) {
+    Handle d = open_dataset(path);
+    auto sh = to_h(shape(path));
+    if (row0 + rows > sh[0])
+        throw InternalError(fmt::format("{}: {}: write past the end", name_, path));
+    std::vector<hsize_t> start(sh.size(), 0), cnt = sh;
+    start[0] = row0;
+    cnt[0] = rows;
+    std::uint64_t n = 1;
+    for (auto c : cnt)
+        n *= c;
+    if (n != data.size())
+        throw InternalError(fmt::format("{}: {}: {} values for {} rows", name_, path,
+                                        data.size(), rows));
+    Handle fs(H5Dget_space(d.get()));
+    H5Sselect_hyperslab(fs.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
+    Handle ms(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
+    if (H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), data.data()) < 0)
+        fail(path, "write failed");
+}
+
+template <Element T>
+void File::append(const std::string& path, std::span<const T> data, std::uint64_t rows) {
+    auto sh = shape(path);
+    std::uint64_t row0 = sh[0];
+    resize_rows(path, row0 + rows);
+    write_rows(path, data, row0, rows);
+}
+
+bool File::has_attr(const std::string& path, const std::string& name) const {
+    if (!exists(path))
+        return false;
+    htri_t r = H5Aexists_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT);
+    H5Eclear2(H5E_DEFAULT);
+    return r > 0;
+}
+
+namespace {
+void write_attr(hid_t obj, const std::string& name, hid_t type, hid_t space, const void* buf,
+                const std::function<void(const std::string&)>& fail) {
+    if (H5Aexists(obj, name.c_str()) > 0)
+        H5Adelete(obj, name.c_str());
+    Handle a(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT));
+    if (!a.valid() || H5Awrite(a.get(), type, buf) < 0)
+        fail("cannot write attribute " + name);
+}
+} // namespace
+
+template <Element T>
+void File::set_attr(const std::string& path, const std::string& name, T value) {
+    Handle o = open_object(path);
+    Handle space(H5Screate(H5S_SCALAR));
+    write_attr(o.get(), name, native<T>(), space.get(), &value,
+               [&](const std::string& w) { fail(path, w); });
+}
+
+template <Element T>
+void File::set_attr(const std::string& path, const std::string& name, const std::vector<T>& v) {
+    Handle o = open_object(path);
+    hsize_t n = v.size();
+    Handle space(H5Screate_simple(1, &n, nullptr));
+    write_attr(o.get(), name, native<T>(), space.get(), v.data(),
+               [&](const std::string& w) { fail(path, w); });
+}
+
+void File::set_attr(const std::string& path, const std::string& name, const std::string& value) {
+    Handle o = open_object(path);
+    Handle t = vlen_string_type();
+    Handle space(H5Screate(H5S_SCALAR));
+    const char* p = value.c_str();
+    write_attr(o.get(), name, t.get(), space.get(), &p,
+               [&](const std::string& w) { fail(path, w); });
+}
+
+void File::set_attr(const std::string& path, const std::string& name,
+                    const std::vector<std::string>& value) {
+    Handle o = open_object(path);
+    Handle t = vlen_string_type();
+    hsize_t n = value.size();
+    Handle space(H5Screate_simple(1, &n, nullptr));
+    std::vector<const char*> p;
+    for (auto& s : value)
+        p.push_back(s.c_str());
+    write_attr(o.get(), name, t.get(), space.get(), p.data(),
+               [&](const std::string& w) { fail(path, w); });
+}
+
+template <Element T>
+std::vector<T> File::attr_vector(const std::string& path, const std::string& name) const {
+    if (!has_attr(path, name))
+        throw Error(name_, path, "missing attribute '" + name + "'");
+    Handle a(H5Aopen_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT));
+    Handle s(H5Aget_space(a.get()));
+    hssize_t n = H5Sget_simple_extent_npoints(s.get());
+    Handle ft(H5Aget_type(a.get()));
+    if (H5Tget_class(ft.get()) == H5T_STRING)
+        throw Error(name_, path, "attribute '" + name + "' holds a string, expected numbers");
+    std::vector<T> v(static_cast<std::size_t>(n));
+    if (H5Aread(a.get(), native<T>(), v.data()) < 0)
+        fail(path, "cannot read attribute " + name);
+    return v;
+}
+
+template <Element T>
+T File::attr(const std::string& path, const std::string& name) const {
+    auto v = attr_vector<T>(path, name);
+    if (v.size() != 1)
+        throw Error(name_, path, "attribute '" + name + "' is not a scalar");
+    return v[0];
+}
+
+std::string File::attr_string(const std::string& path, const std::string& name) const {
+    if (!has_attr(path, name))
+        throw Error(name_, path, "missing attribute '" + name + "'");
+    Handle a(H5Aopen_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT));
+    Handle ft(H5Aget_type(a.get()));
+    if (H5Tget_class(ft.get()) != H5T_STRING)
+        throw Error(name_, path, "attribute '" + name + "' is not a string");
+    if (H5Tis_variable_str(ft.get()) > 0) {
+        Handle t = vlen_string_type();
+        char* p = nullptr;
+        if (H5Aread(a.get(), t.get(), &p) < 0)
+            fail(path, "cannot read attribute " + name);
+        std::string s = p ? p : "";
+        H5free_memory(p);
+        return s;
+    }
+    std::string s(H5Tget_size(ft.get()), '\0');
+    if (H5Aread(a.get(), ft.get(), s.data()) < 0)
+        fail(path, "cannot read attribute " + name);
+    s.resize(std::strlen(s.c_str()));
+    return s;
+}
+
+std::vector<std::string> File::attr_names(const std::string& path) const {
+    Handle o = open_object(path);
+    H5O_info_t info;
+    H5Oget_info(o.get(), &info);
+    std::vector<std::string> names;
+    for (hsize_t i = 0; i < info.num_attrs; ++i) {
+        Handle a(H5Aopen_by_idx(o.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT,
+                                H5P_DEFAULT));
+        ssize_t n = H5Aget_name(a.get(), 0, nullptr);
+        std::string s(static_cast<std::size_t>(n), '\0');
+        H5Aget_name(a.get(), s.size() + 1, s.data());
+        names.push_back(s);
+    }
+    return names;
+}
+
+#define PD_H5_INSTANTIATE(T)                                                                       \
+    template void File::write<T>(const std::string&, std::span<const T>, const dims_t&);          \
+    template void File::write_scalar<T>(const std::string&, T);                                   \
+    template std::vector<T> File::read<T>(const std::string&, dims_t*) const;                     \
+    template T File::read_scalar<T>(const std::string&) const;                                    \
+    template std::vector<T> File::read_rows<T>(const std::string&, std::uint64_t, std::uint64_t)  \
+        const;                                                                                     \
+    template void File::create_extendible<T>(const std::string&, const dims_t&, std::uint64_t);   \
+    template void File::append<T>(const std::string&, std::span<const T>, std::uint64_t);         \
+    template void File::write_rows<T>(const std::string&, std::span<const T>, std::uint64_t,      \
+                                      std::uint64_t);                                              \
+    template void File::set_attr<T>(const std::string&, const std::string&, T);                   \
+    template void File::set_attr<T>(const std::string&, const std::string&,                       \
+                                    const std::vector<T>&);                                        \
+    template std::vector<T> File::attr_vector<T>(const std::string&, const std::string&) const;   \
+    template T File::attr<T>(const std::string&, const std::string&) const;
+
+PD_H5_INSTANTIATE(double)
+PD_H5_INSTANTIATE(float)
+PD_H5_INSTANTIATE(std::int32_t)
+PD_H5_INSTANTIATE(std::int64_t)
+PD_H5_INSTANTIATE(std::uint8_t)
+PD_H5_INSTANTIATE(std::uint64_t)
+
+} // namespace pd::h5

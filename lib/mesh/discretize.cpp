@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/discretize.hpp"
+
+#include "core/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pd::mesh {
+
+namespace {
+const double* node(const model::RefMesh& m, std::int32_t i) { return &m.nodes[3 * i]; }
+double dist(const double* a, const double* b) {
+    return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                     (a[2] - b[2]) * (a[2] - b[2]));
+}
+} // namespace
+
+std::vector<double> lumped_volumes(const model::RefMesh& m, int dimension) {
+    const std::size_t n = m.nodes.size() / 3;
+    const auto npc = static_cast<std::size_t>(m.nodes_per_cell);
+    std::vector<double> v(n, 0.0);
+    for (std::size_t c = 0; c + npc <= m.cells.size(); c += npc) {
+        const std::int32_t* k = &m.cells[c];
+        double vol = 0;
+        if (dimension == 2 && npc == 3) {
+            const double *a = node(m, k[0]), *b = node(m, k[1]), *d = node(m, k[2]);
+            vol = 0.5 * std::abs((b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]));
+        } else if (dimension == 3 && npc == 4) {
+            const double *a = node(m, k[0]), *b = node(m, k[1]), *c3 = node(m, k[2]),
+                         *d = node(m, k[3]);
+            double u[3], w[3], z[3];
+            for (int i = 0; i < 3; ++i) {
+                u[i] = b[i] - a[i];
+                w[i] = c3[i] - a[i];
+                z[i] = d[i] - a[i];
+            }
+            vol = std::abs(u[0] * (w[1] * z[2] - w[2] * z[1]) - u[1] * (w[0] * z[2] - w[2] * z[0]) +
+                           u[2] * (w[0] * z[1] - w[1] * z[0])) /
+                  6.0;
+        } else {
+            throw InputError(fmt::format("mesh '{}': {}-node cells are not supported in {}D",
+                                         m.name, npc, dimension));
+        }
+        for (std::size_t i = 0; i < npc; ++i)
+            v[static_cast<std::size_t>(k[i])] += vol / static_cast<double>(npc);
+    }
+    return v;
+}
+
+double min_edge_length(const model::RefMesh& m) {
+    const auto npc = static_cast<std::size_t>(m.nodes_per_cell);
+    double h = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c + npc <= m.cells.size(); c += npc)
+        for (std::size_t a = 0; a < npc; ++a)
+            for (std::size_t b = a + 1; b < npc; ++b)
+                h = std::min(h, dist(node(m, m.cells[c + a]), node(m, m.cells[c + b])));
+    return h;
+}
+
+double bounding_radius(const model::RefMesh& m) {
+    double r = 0;
+    const double o[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < m.nodes.size(); i += 3)
+        r = std::max(r, dist(&m.nodes[i], o));
+    return r;
+}
+
+void place_instance(const model::RefMesh& m, double theta, double s, const std::array<double, 3>& t,
+                    std::vector<double>& x) {
+    const double c = std::cos(theta), sn = std::sin(theta);
+    for (std::size_t i = 0; i < m.nodes.size(); i += 3) {
+        const double* X = &m.nodes[i];
+        x.push_back(t[0] + s * (c * X[0] - sn * X[1]));
+        x.push_back(t[1] + s * (sn * X[0] + c * X[1]));
+        x.push_back(t[2] + s * X[2]);
+    }
+}
+
+} // namespace pd::mesh

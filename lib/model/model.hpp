@@ -1,0 +1,132 @@
+// SPDX-License-Identifier: MIT
+// The in-memory model: one flat node set (structure of arrays, 3-vectors interleaved), bodies as
+// contiguous node ranges (CSR body -> nodes), materials, contact table, loading and solver
+// settings. What pd-pack builds, the file stores and pd-solve runs. No I/O library here.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pd::model {
+
+using index_t = std::int32_t; ///< node index (local)
+using offset_t = std::int64_t;
+
+enum class BodyKind : std::uint8_t { particle = 0, wall = 1 };
+
+/// Peridynamic constitutive law. PMB: bond-based prototype microelastic brittle (spec 1.5).
+enum class Law : std::uint8_t { pmb = 0 };
+
+/// Planar assumption of a 2D run. pdgrain's 2D PMB uses plane stress (nu = 1/3), stated in files.
+enum class Planar : std::uint8_t { plane_stress = 0, plane_strain = 1 };
+
+/// A material as given (classical constants), plus the law. Derived PD constants depend on the
+/// horizon and live per body (see BodyConstants).
+struct Material {
+    std::string name;
+    Law law = Law::pmb;
+    double density = 0;         ///< kg m-3
+    double youngs_modulus = 0;  ///< Pa
+    double poisson_ratio = 0;   ///< 1 (bond-based: fixed by the law, 1/3 plane stress, 1/4 3D)
+    double fracture_energy = 0; ///< Gc, J m-2; 0 = unbreakable
+    double bulk_modulus() const; ///< K, Pa, from E and nu
+    bool breakable() const { return fracture_energy > 0; }
+};
+
+/// A mesh shared by instances (meshed once per shape, spec 2.5), centred at the origin.
+struct RefMesh {
+    std::string name;
+    std::vector<double> nodes;       ///< 3 per node, m
+    std::vector<std::int32_t> cells; ///< nodes_per_cell per cell, 0-based
+    int nodes_per_cell = 3;
+};
+
+/// Bodies: node ranges and per-body data (all arrays have num() entries, vectors 3 per body).
+struct Bodies {
+    std::vector<offset_t> node_offsets{0}; ///< CSR: nodes of body b are [off[b], off[b+1])
+    std::vector<std::int32_t> material;
+    std::vector<std::int32_t> group;       ///< contact group (row/column of the contact table)
+    std::vector<std::int32_t> ref_mesh;    ///< index into Model::ref_meshes
+    std::vector<BodyKind> kind;
+    std::vector<std::uint8_t> fixed;       ///< 1 = not integrated (obstacle)
+    std::vector<double> center;            ///< 3 per body, m (placement centre)
+    std::vector<double> bounding_radius;   ///< m
+    std::vector<double> orientation;       ///< rad about z
+    std::vector<double> scale;             ///< 1
+    std::vector<double> initial_velocity;  ///< 3 per body, m s-1
+    std::vector<double> mesh_size;         ///< h: min node spacing, m (spec 2.2)
+    std::vector<double> horizon;           ///< delta, m
+    std::size_t num() const { return node_offsets.size() - 1; }
+    offset_t begin(std::size_t b) const { return node_offsets[b]; }
+    offset_t end(std::size_t b) const { return node_offsets[b + 1]; }
+};
+
+/// Nodes: structure of arrays; 3-vectors interleaved (x, y, z per node).
+struct Nodes {
+    std::vector<double> x0;          ///< reference position, 3 per node, m
+    std::vector<double> volume;      ///< m3 (2D: area x unit thickness)
+    std::vector<std::int32_t> body;  ///< owning body
+    std::size_t num() const { return volume.size(); }
+};
+
+/// Bond list: CSR, full (i->j and j->i), same-body neighbours with |xi| < delta (spec 2.4).
+struct Bonds {
+    std::vector<offset_t> offsets{0};
+    std::vector<index_t> neighbor;
+    std::size_t num() const { return neighbor.size(); }
+};
+
+/// One row of the contact table: the law between contact groups a and b (symmetric).
+struct ContactPair {
+    std::int32_t group_a = 0;
+    std::int32_t group_b = 0;
+    double radius = 0;      ///< R_c, m
+    double stiffness = 0;   ///< K_n, N m-7 (force density per overlap per volume)
+    double restitution = 1; ///< eps in (0, 1]; 1 = no damping
+    double friction = 0;    ///< Coulomb mu
+};
+
+struct Loading {
+    std::array<double, 3> gravity{0, 0, 0}; ///< m s-2
+};
+
+enum class Integrator : std::uint8_t { velocity_verlet = 0, symplectic_euler = 1 };
+
+struct SolverSettings {
+    double final_time = 0;          ///< s
+    double dt = 0;                  ///< s; 0 = automatic (stable estimate times safety)
+    double dt_safety = 0.5;         ///< factor on the stability estimate
+    double output_interval = 0;     ///< s between frames; 0 = first and last only
+    std::int64_t observe_every = 1; ///< steps between observable rows
+    Integrator integrator = Integrator::velocity_verlet;
+    double contact_skin = 0;        ///< m; 0 = automatic (half the largest contact radius)
+};
+
+/// Everything pd-pack writes and pd-solve reads.
+struct Model {
+    int dimension = 2;
+    Planar planar = Planar::plane_stress;
+    std::vector<Material> materials;
+    std::vector<RefMesh> ref_meshes;
+    Bodies bodies;
+    Nodes nodes;
+    Bonds bonds;
+    std::vector<ContactPair> contact;
+    Loading loading;
+    SolverSettings solver;
+    std::string scene_json; ///< the scene as given (comments stripped)
+    std::string title;
+
+    /// Contact pair for groups a, b, or nullptr if they do not interact.
+    const ContactPair* contact_between(std::int32_t a, std::int32_t b) const;
+    /// Throws pd::InternalError if array sizes disagree (CSR monotone, indices in range).
+    void check_consistency() const;
+};
+
+/// Builds the full CSR bond list: j in the same body as i, |X_j - X_i| < horizon(body), j != i.
+/// Cell-list search, O(n). Rows sorted by neighbour index (deterministic).
+Bonds build_bonds(const Nodes& nodes, const Bodies& bodies);
+
+} // namespace pd::model

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/partition.hpp"
+
+#include "core/errors.hpp"
+#include "h5/file.hpp"
+#include "partition/graph.hpp"
+#include "store/model_io.hpp"
+#include "store/partition_io.hpp"
+#include "store/provenance.hpp"
+
+#include <algorithm>
+
+namespace pd::pipeline {
+
+void partition(const PartitionOptions& opt, Context& ctx) {
+    auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
+    ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
+    const model::Model m = store::read_model(*f);
+    if (opt.num_parts < 1)
+        throw InputError(fmt::format("-n {}: the number of parts must be at least 1",
+                                     opt.num_parts));
+    if (static_cast<std::size_t>(opt.num_parts) > m.bodies.num())
+        throw InputError(fmt::format("-n {}: more parts than the {} grains of {} (partition by "
+                                     "node comes with issue #5)",
+                                     opt.num_parts, m.bodies.num(), opt.file));
+    double reach = 0;
+    for (const auto& c : m.contact)
+        reach = std::max(reach, c.radius);
+    reach *= 2; // contact radius plus a skin of the same size
+    const auto g = partition::body_graph(m, reach);
+    store::Partition p;
+    p.by = "body";
+    p.num_parts = opt.num_parts;
+    p.method = opt.num_parts == 1 ? "trivial"
+               : opt.num_parts < 8 ? "metis_recursive_bisection"
+                                   : "metis_kway";
+    p.owner = partition::metis_partition(g, opt.num_parts);
+    p.edge_cut = partition::edge_cut(g, p.owner);
+    p.imbalance = partition::imbalance(g, p.owner, opt.num_parts);
+    store::write_partition(*f, p);
+    ctx.log.info("partitioned {} grains of {} into {} parts ({}): edge cut {}, imbalance {:.3f}",
+                 m.bodies.num(), opt.file, p.num_parts, p.method, p.edge_cut, p.imbalance);
+}
+
+} // namespace pd::pipeline

@@ -1,0 +1,411 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/scene.hpp"
+
+#include "core/errors.hpp"
+#include "mesh/discretize.hpp"
+#include "mesh/gmsh_mesher.hpp"
+#include "model/pmb.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+
+namespace pd::pipeline {
+
+using json = nlohmann::json;
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j)
+        prev[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j)
+            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1,
+                               prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        std::swap(prev, cur);
+    }
+    return prev[b.size()];
+}
+
+namespace {
+
+/// Checks that object `o` at `where` has only keys from `allowed`.
+void check_keys(const json& o, const std::string& where, const std::vector<std::string>& allowed) {
+    if (!o.is_object())
+        throw ConfigError(where.empty() ? "(top level)" : where, "expected an object");
+    for (auto it = o.begin(); it != o.end(); ++it) {
+        if (std::find(allowed.begin(), allowed.end(), it.key()) != allowed.end())
+            continue;
+        std::string best;
+        std::size_t bd = 1000;
+        for (const auto& k : allowed) {
+            auto d = edit_distance(it.key(), k);
+            if (d < bd) {
+                bd = d;
+                best = k;
+            }
+        }
+        const std::string key = where.empty() ? it.key() : where + "." + it.key();
+        throw ConfigError(key, bd <= std::max<std::size_t>(2, best.size() / 3)
+                                   ? "unknown key; did you mean '" + best + "'?"
+                                   : "unknown key; valid keys here: " + [&] {
+                                         std::string s;
+                                         for (const auto& k : allowed)
+                                             s += (s.empty() ? "" : ", ") + k;
+                                         return s;
+                                     }());
+    }
+}
+
+std::string join(const std::string& where, const std::string& key) {
+    return where.empty() ? key : where + "." + key;
+}
+
+double number(const json& o, const std::string& where, const std::string& key, double fallback,
+              bool required = false) {
+    if (!o.contains(key)) {
+        if (required)
+            throw ConfigError(join(where, key), "missing (required)");
+        return fallback;
+    }
+    const auto& v = o.at(key);
+    if (!v.is_number())
+        throw ConfigError(join(where, key), "expected a number, found " + v.dump());
+    const double d = v.get<double>();
+    if (!std::isfinite(d))
+        throw ConfigError(join(where, key), "must be finite");
+    return d;
+}
+
+double positive(const json& o, const std::string& where, const std::string& key, double fallback,
+                bool required = false) {
+    double d = number(o, where, key, fallback, required);
+    if (!(d > 0))
+        throw ConfigError(join(where, key), fmt::format("must be positive, found {}", d));
+    return d;
+}
+
+std::array<double, 3> vec(const json& o, const std::string& where, const std::string& key,
+                          int dimension, std::array<double, 3> fallback, bool required = false) {
+    if (!o.contains(key)) {
+        if (required)
+            throw ConfigError(join(where, key), "missing (required)");
+        return fallback;
+    }
+    const auto& v = o.at(key);
+    if (!v.is_array() || (v.size() != static_cast<std::size_t>(dimension) && v.size() != 3))
+        throw ConfigError(join(where, key),
+                          fmt::format("expected an array of {} numbers, found {}", dimension,
+                                      v.dump()));
+    std::array<double, 3> r{0, 0, 0};
+    for (std::size_t k = 0; k < v.size(); ++k) {
+        if (!v[k].is_number() || !std::isfinite(v[k].get<double>()))
+            throw ConfigError(join(where, key), "entries must be finite numbers");
+        r[k] = v[k].get<double>();
+    }
+    if (dimension == 2 && r[2] != 0)
+        throw ConfigError(join(where, key), "z must be 0 in a 2D scene");
+    return r;
+}
+
+bool boolean(const json& o, const std::string& where, const std::string& key, bool fallback) {
+    if (!o.contains(key))
+        return fallback;
+    if (!o.at(key).is_boolean())
+        throw ConfigError(join(where, key), "expected true or false");
+    return o.at(key).get<bool>();
+}
+
+std::string text(const json& o, const std::string& where, const std::string& key,
+                 const std::string& fallback, const std::vector<std::string>& choices = {}) {
+    if (!o.contains(key))
+        return fallback;
+    if (!o.at(key).is_string())
+        throw ConfigError(join(where, key), "expected a string");
+    auto s = o.at(key).get<std::string>();
+    if (!choices.empty() && std::find(choices.begin(), choices.end(), s) == choices.end()) {
+        std::string c;
+        for (const auto& k : choices)
+            c += (c.empty() ? "" : ", ") + k;
+        throw ConfigError(join(where, key), "'" + s + "' is not one of: " + c);
+    }
+    return s;
+}
+
+struct Disc {
+    std::array<double, 3> center;
+    double radius;
+    std::int32_t material;
+    std::int32_t group;
+    std::array<double, 3> velocity;
+    bool fixed;
+    double orientation;
+};
+
+} // namespace
+
+model::Model build_scene(const std::string& source_text, const std::string& source,
+                         const Log& log) {
+    json root;
+    try {
+        root = json::parse(source_text, nullptr, true, /*ignore_comments=*/true);
+    } catch (const json::parse_error& e) {
+        throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
+    }
+    check_keys(root, "", {"title", "dimension", "planar", "materials", "discretization",
+                          "particles", "contact", "loading", "solver"});
+    model::Model m;
+    m.scene_json = root.dump(2);
+    m.title = text(root, "", "title", source);
+    m.dimension = static_cast<int>(number(root, "", "dimension", 2));
+    if (m.dimension != 2)
+        throw ConfigError("dimension", fmt::format("{} is not supported yet: pdgrain v0.1 meshes "
+                                                   "2D discs (3D shapes: issue #3)",
+                                                   m.dimension));
+    m.planar = text(root, "", "planar", "plane_stress", {"plane_stress", "plane_strain"}) ==
+                       "plane_strain"
+                   ? model::Planar::plane_strain
+                   : model::Planar::plane_stress;
+
+    // Materials.
+    if (!root.contains("materials") || !root["materials"].is_object() || root["materials"].empty())
+        throw ConfigError("materials", "missing: give at least one material by name");
+    std::map<std::string, std::int32_t> material_index;
+    for (auto it = root["materials"].begin(); it != root["materials"].end(); ++it) {
+        const std::string w = "materials." + it.key();
+        check_keys(*it, w, {"law", "density", "youngs_modulus", "fracture_energy",
+                            "poisson_ratio"});
+        model::Material mat;
+        mat.name = it.key();
+        for (char ch : mat.name)
+            if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'))
+                throw ConfigError(w, "material names may hold letters, digits and '_' only");
+        text(*it, w, "law", "pmb", {"pmb"});
+        mat.law = model::Law::pmb;
+        mat.density = positive(*it, w, "density", 0, true);
+        mat.youngs_modulus = positive(*it, w, "youngs_modulus", 0, true);
+        mat.fracture_energy = number(*it, w, "fracture_energy", 0);
+        if (mat.fracture_energy < 0)
+            throw ConfigError(w + ".fracture_energy", "must be >= 0 (0 = unbreakable)");
+        mat.poisson_ratio = model::pmb_poisson_ratio(m.dimension, m.planar);
+        if (it->contains("poisson_ratio") &&
+            std::abs(number(*it, w, "poisson_ratio", 0) - mat.poisson_ratio) > 1e-12)
+            throw ConfigError(w + ".poisson_ratio",
+                              fmt::format("the bond-based PMB law fixes nu = {:.4g} ({}); omit "
+                                          "the key or give that value",
+                                          mat.poisson_ratio,
+                                          m.planar == model::Planar::plane_stress
+                                              ? "2D plane stress"
+                                              : "plane strain / 3D"));
+        material_index[mat.name] = static_cast<std::int32_t>(m.materials.size());
+        m.materials.push_back(mat);
+    }
+
+    // Discretisation.
+    if (!root.contains("discretization"))
+        throw ConfigError("discretization", "missing: give mesh_size and horizon");
+    const json& dz = root["discretization"];
+    check_keys(dz, "discretization", {"mesh_size", "horizon", "horizon_factor"});
+    const double h_ref = positive(dz, "discretization", "mesh_size", 0, true);
+    const bool has_h = dz.contains("horizon"), has_m = dz.contains("horizon_factor");
+    if (has_h == has_m)
+        throw ConfigError("discretization", "give exactly one of horizon (m) or horizon_factor "
+                                            "(multiple of mesh_size)");
+    const double horizon_abs = has_h ? positive(dz, "discretization", "horizon", 0) : 0;
+    const double horizon_factor = has_m ? positive(dz, "discretization", "horizon_factor", 0) : 0;
+
+    // Particles.
+    if (!root.contains("particles") || !root["particles"].is_array() || root["particles"].empty())
+        throw ConfigError("particles", "missing: give a list of particles");
+    std::vector<Disc> discs;
+    for (std::size_t k = 0; k < root["particles"].size(); ++k) {
+        const json& p = root["particles"][k];
+        const std::string w = fmt::format("particles[{}]", k);
+        check_keys(p, w, {"shape", "radius", "center", "material", "velocity", "fixed", "group",
+                          "orientation"});
+        text(p, w, "shape", "disc", {"disc"});
+        Disc d;
+        d.radius = positive(p, w, "radius", 0, true);
+        d.center = vec(p, w, "center", m.dimension, {0, 0, 0}, true);
+        d.velocity = vec(p, w, "velocity", m.dimension, {0, 0, 0});
+        d.fixed = boolean(p, w, "fixed", false);
+        d.orientation = number(p, w, "orientation", 0);
+        d.group = static_cast<std::int32_t>(number(p, w, "group", 0));
+        if (d.group < 0 || d.group > 1000)
+            throw ConfigError(w + ".group", "must be in [0, 1000]");
+        const std::string mat = text(p, w, "material", "");
+        if (mat.empty())
+            throw ConfigError(w + ".material", "missing (required)");
+        auto it = material_index.find(mat);
+        if (it == material_index.end())
+            throw ConfigError(w + ".material", "no material named '" + mat + "' in materials");
+        d.material = it->second;
+        discs.push_back(d);
+    }
+    // Overlap check (sweep in x).
+    {
+        std::vector<std::size_t> order(discs.size());
+        for (std::size_t k = 0; k < order.size(); ++k)
+            order[k] = k;
+        std::sort(order.begin(), order.end(), [&](auto a, auto b) {
+            return discs[a].center[0] - discs[a].radius < discs[b].center[0] - discs[b].radius;
+        });
+        for (std::size_t ia = 0; ia < order.size(); ++ia)
+            for (std::size_t ib = ia + 1; ib < order.size(); ++ib) {
+                const auto &a = discs[order[ia]], &b = discs[order[ib]];
+                if (b.center[0] - b.radius > a.center[0] + a.radius)
+                    break;
+                const double d = std::hypot(a.center[0] - b.center[0], a.center[1] - b.center[1],
+                                            a.center[2] - b.center[2]);
+                if (d < a.radius + b.radius)
+                    throw ConfigError(
+                        fmt::format("particles[{}], particles[{}]", std::min(order[ia], order[ib]),
+                                    std::max(order[ia], order[ib])),
+                        fmt::format("grains overlap: centre distance {:.6g} m < sum of radii "
+                                    "{:.6g} m",
+                                    d, a.radius + b.radius));
+            }
+    }
+
+    // Reference disc meshed once; instances scaled from it.
+    const double r_ref = discs.front().radius;
+    model::RefMesh ref = mesh::mesh_disc(r_ref, h_ref);
+    const auto ref_vol = mesh::lumped_volumes(ref, m.dimension);
+    const double ref_h = mesh::min_edge_length(ref);
+    const double ref_bound = mesh::bounding_radius(ref);
+    double ref_area = 0;
+    for (double v : ref_vol)
+        ref_area += v;
+    log.info("reference disc r = {:.4g} m, target h = {:.4g} m: {} nodes, {} triangles, min "
+             "spacing {:.4g} m, sum of volumes / pi r^2 = {:.5f}",
+             r_ref, h_ref, ref.nodes.size() / 3, ref.cells.size() / 3, ref_h,
+             ref_area / (std::numbers::pi * r_ref * r_ref));
+    m.ref_meshes.push_back(ref);
+    const std::size_t nref = ref.nodes.size() / 3;
+    auto& B = m.bodies;
+    for (std::size_t k = 0; k < discs.size(); ++k) {
+        const auto& d = discs[k];
+        const double s = d.radius / r_ref;
+        mesh::place_instance(ref, d.orientation, s, d.center, m.nodes.x0);
+        const double sd = std::pow(s, m.dimension);
+        for (std::size_t i = 0; i < nref; ++i) {
+            m.nodes.volume.push_back(ref_vol[i] * sd);
+            m.nodes.body.push_back(static_cast<std::int32_t>(k));
+        }
+        B.node_offsets.push_back(B.node_offsets.back() + static_cast<model::offset_t>(nref));
+        B.material.push_back(d.material);
+        B.group.push_back(d.group);
+        B.ref_mesh.push_back(0);
+        B.kind.push_back(model::BodyKind::particle);
+        B.fixed.push_back(d.fixed ? 1 : 0);
+        B.center.insert(B.center.end(), d.center.begin(), d.center.end());
+        B.bounding_radius.push_back(ref_bound * s);
+        B.orientation.push_back(d.orientation);
+        B.scale.push_back(s);
+        B.initial_velocity.insert(B.initial_velocity.end(), d.velocity.begin(), d.velocity.end());
+        const double h = ref_h * s;
+        const double delta = has_h ? horizon_abs : horizon_factor * h;
+        if (delta < 2.0 * h)
+            throw ConfigError(has_h ? "discretization.horizon" : "discretization.horizon_factor",
+                              fmt::format("particles[{}]: horizon {:.4g} m is less than 2 x its "
+                                          "mesh spacing h = {:.4g} m (too coarse: refine "
+                                          "mesh_size or enlarge the horizon)",
+                                          k, delta, h));
+        B.mesh_size.push_back(h);
+        B.horizon.push_back(delta);
+    }
+    m.bonds = model::build_bonds(m.nodes, B);
+
+    // Contact: one law for every pair of groups present.
+    const json empty = json::object();
+    const json& c = root.contains("contact") ? root["contact"] : empty;
+    check_keys(c, "contact", {"radius_factor", "radius", "stiffness", "stiffness_factor",
+                              "restitution", "friction"});
+    double hmin = *std::min_element(B.mesh_size.begin(), B.mesh_size.end());
+    double rc = c.contains("radius") ? positive(c, "contact", "radius", 0)
+                                     : positive(c, "contact", "radius_factor", 0.95) * hmin;
+    const double eps = number(c, "contact", "restitution", 1.0);
+    if (!(eps > 0 && eps <= 1))
+        throw ConfigError("contact.restitution", "must be in (0, 1]");
+    if (eps < 1)
+        throw ConfigError("contact.restitution",
+                          "damping (restitution < 1) is not implemented yet (issue #4); use 1");
+    const double mu = number(c, "contact", "friction", 0.0);
+    if (mu != 0)
+        throw ConfigError("contact.friction", "friction is not implemented yet (issue #4); use 0");
+    std::set<std::int32_t> groups(B.group.begin(), B.group.end());
+    for (auto ga : groups)
+        for (auto gb : groups) {
+            if (gb < ga)
+                continue;
+            model::ContactPair p;
+            p.group_a = ga;
+            p.group_b = gb;
+            p.radius = rc;
+            p.restitution = eps;
+            p.friction = mu;
+            if (c.contains("stiffness") && !c["stiffness"].is_string()) {
+                p.stiffness = positive(c, "contact", "stiffness", 0);
+            } else {
+                text(c, "contact", "stiffness", "auto", {"auto"});
+                // Kn = 18 kappa / (pi delta^(d+2)), kappa the harmonic mean of the bulk moduli of
+                // the materials in the two groups, delta the largest horizon (dimensionally
+                // consistent in 2D and 3D: spec decision 7).
+                double ka = 0, kb = 0, delta = 0;
+                for (std::size_t b = 0; b < B.num(); ++b) {
+                    const double K = m.materials[static_cast<std::size_t>(B.material[b])]
+                                         .bulk_modulus();
+                    if (B.group[b] == ga)
+                        ka = std::max(ka, K);
+                    if (B.group[b] == gb)
+                        kb = std::max(kb, K);
+                    delta = std::max(delta, B.horizon[b]);
+                }
+                const double kappa = 2 * ka * kb / (ka + kb);
+                p.stiffness = 18.0 * kappa / (std::numbers::pi * std::pow(delta, m.dimension + 2)) *
+                              number(c, "contact", "stiffness_factor", 1.0);
+            }
+            m.contact.push_back(p);
+        }
+
+    // Loading.
+    const json& ld = root.contains("loading") ? root["loading"] : empty;
+    check_keys(ld, "loading", {"gravity"});
+    m.loading.gravity = vec(ld, "loading", "gravity", m.dimension, {0, 0, 0});
+
+    // Solver settings.
+    if (!root.contains("solver"))
+        throw ConfigError("solver", "missing: give at least final_time");
+    const json& sv = root["solver"];
+    check_keys(sv, "solver", {"final_time", "dt", "dt_safety", "output_interval", "observe_every",
+                              "integrator", "contact_skin"});
+    auto& S = m.solver;
+    S.final_time = positive(sv, "solver", "final_time", 0, true);
+    if (sv.contains("dt") && sv["dt"].is_string())
+        text(sv, "solver", "dt", "auto", {"auto"});
+    else
+        S.dt = sv.contains("dt") ? positive(sv, "solver", "dt", 0) : 0.0;
+    S.dt_safety = positive(sv, "solver", "dt_safety", 0.7);
+    if (S.dt_safety > 1)
+        throw ConfigError("solver.dt_safety", "must be in (0, 1]");
+    S.output_interval = number(sv, "solver", "output_interval", 0);
+    if (S.output_interval < 0)
+        throw ConfigError("solver.output_interval", "must be >= 0");
+    S.observe_every = static_cast<std::int64_t>(positive(sv, "solver", "observe_every", 1));
+    S.integrator = text(sv, "solver", "integrator", "velocity_verlet",
+                        {"velocity_verlet", "symplectic_euler"}) == "velocity_verlet"
+                       ? model::Integrator::velocity_verlet
+                       : model::Integrator::symplectic_euler;
+    S.contact_skin = number(sv, "solver", "contact_skin", 0);
+    if (S.contact_skin < 0)
+        throw ConfigError("solver.contact_skin", "must be >= 0 (0 = automatic)");
+    m.check_consistency();
+    return m;
+}
+
+} // namespace pd::pipeline

@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: MIT
+// The JSON scene (comments allowed) -> model::Model. Every key is checked: an unknown key is
+// refused with the closest valid key; values are range-checked with the key path in the message.
+#pragma once
+
+#include "core/log.hpp"
+#include "model/model.hpp"
+
+#include <string>
+
+namespace pd::pipeline {
+
+/// Parses `text` (the content of `source`, used in messages) and builds the model: meshes each
+/// reference shape once (gmsh), places instances, nodal volumes, bonds, contact table.
+/// Throws ConfigError naming the key on bad input.
+model::Model build_scene(const std::string& text, const std::string& source, const Log& log);
+
+/// Levenshtein distance (for "did you mean" suggestions).
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
+} // namespace pd::pipeline

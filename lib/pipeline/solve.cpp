@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/solve.hpp"
+
+#include "core/errors.hpp"
+#include "core/timer.hpp"
+#include "h5/file.hpp"
+#include "solver/solver.hpp"
+#include "store/frames.hpp"
+#include "store/model_io.hpp"
+#include "store/provenance.hpp"
+#include "store/schema.hpp"
+
+#include <cmath>
+#include <map>
+#include <span>
+
+namespace pd::pipeline {
+
+namespace {
+
+void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<double>& damage,
+                 std::vector<double>& force) {
+    const auto& st = s.state();
+    std::map<std::string, std::span<const double>> data;
+    data["position"] = st.x;
+    data["velocity"] = st.v;
+    data["displacement"] = st.u;
+    s.nodal_force(force);
+    data["force"] = force;
+    s.damage(damage);
+    data["damage"] = damage;
+    fw.write(st.step, st.time, data);
+}
+
+std::vector<double> observable_row(const solver::Observables& o) {
+    return {o.kinetic_energy, o.elastic_energy, o.momentum[0], o.momentum[1], o.momentum[2],
+            static_cast<double>(o.contact_count), static_cast<double>(o.broken_bonds)};
+}
+
+} // namespace
+
+void solve(const SolveOptions& opt, Context& ctx) {
+    const double wall0 = wall_seconds();
+    auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
+    ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
+    const model::Model m = store::read_model(*f);
+
+    solver::Solver s(m);
+    const auto est = s.stable_dt();
+    double dt = m.solver.dt;
+    if (dt == 0) {
+        dt = m.solver.dt_safety * est.limit;
+    } else if (dt > est.limit) {
+        const std::string msg = fmt::format(
+            "{}: /solver/dt = {:.4g} s exceeds the stability estimate {:.4g} s (governed by {}; "
+            "bonds {:.4g} s, contact {:.4g} s)",
+            opt.file, dt, est.limit, est.governing, est.pd, est.contact);
+        if (!opt.force_dt)
+            throw InputError(msg + "; lower dt, use \"auto\", or pass --force-dt");
+        ctx.log.warn("{} (forced)", msg);
+    }
+    if (!std::isfinite(dt) || !(dt > 0))
+        throw InputError(fmt::format("{}: no finite time step: set /solver/dt in the scene",
+                                     opt.file));
+    // A whole number of steps ending exactly at final_time.
+    const auto total = static_cast<std::int64_t>(std::ceil(m.solver.final_time / dt - 1e-9));
+    dt = m.solver.final_time / static_cast<double>(total);
+    s.set_dt(dt);
+    const std::int64_t steps = opt.max_steps >= 0 ? std::min(opt.max_steps, total) : total;
+    const std::int64_t out_every =
+        m.solver.output_interval > 0
+            ? std::max<std::int64_t>(1, std::llround(m.solver.output_interval / dt))
+            : std::max<std::int64_t>(1, steps);
+    const std::int64_t obs_every = std::max<std::int64_t>(1, m.solver.observe_every);
+    ctx.log.info("{}: {} bodies, {} nodes, {} bonds; dt = {:.4g} s ({:.3g} x stability limit "
+                 "{:.4g} s, governed by {}), {} steps to t = {:.4g} s, a frame every {} steps",
+                 opt.file, m.bodies.num(), m.nodes.num(), m.bonds.num(), dt, dt / est.limit,
+                 est.limit, est.governing, steps, dt * static_cast<double>(steps), out_every);
+    if (!s.contact().active())
+        ctx.log.info("contact: off (fewer than two bodies with a contact law)");
+
+    // Fresh output: previous frames and observables are replaced.
+    f->remove(store::path::particles);
+    f->remove(store::path::observables);
+    std::vector<double> mass(m.nodes.num());
+    for (std::size_t i = 0; i < mass.size(); ++i)
+        mass[i] = s.state().rho[i] * s.state().vol[i];
+    store::FrameWriter frames(*f, m.nodes.num(),
+                              {"position", "velocity", "displacement", "force", "damage"});
+    store::write_particle_constants(*f, m.nodes.body, mass);
+    store::ObservableWriter obs(*f);
+    std::vector<double> damage, force;
+
+    s.initialize();
+    write_frame(frames, s, damage, force);
+    obs.add(0, 0.0, observable_row(s.observe()));
+    double next_report = wall_seconds() + opt.progress_seconds;
+    Timers& timers = s.timers();
+    const int t_out = timers.id("pd::store::output");
+    for (std::int64_t n = 1; n <= steps; ++n) {
+        s.advance();
+        const bool frame = n % out_every == 0 || n == steps;
+        if (n % obs_every == 0 || frame) {
+            const auto o = s.observe();
+            if (!std::isfinite(o.kinetic_energy) || !std::isfinite(o.elastic_energy)) {
+                obs.flush();
+                const auto i = s.first_nonfinite();
+                throw NumericalError(fmt::format(
+                    "{}: non-finite state at step {} (t = {:.6g} s){}; the last good frame "
+                    "stays in the file. Lower dt (now {:.4g} s) or check the scene",
+                    opt.file, n, s.state().time,
+                    i >= 0 ? fmt::format(" at node {} of body {}", i,
+                                         s.state().body[static_cast<std::size_t>(i)])
+                           : std::string{},
+                    dt));
+            }
+            obs.add(n, s.state().time, observable_row(o));
+        }
+        if (frame) {
+            ScopedTimer t(timers, t_out);
+            obs.flush();
+            write_frame(frames, s, damage, force);
+        }
+        if (wall_seconds() >= next_report || n == steps) {
+            const auto o = s.observe();
+            const double el = wall_seconds() - wall0;
+            ctx.log.info("step {}/{} t={:.4e} s dt={:.3e} s KE={:.4e} J broken={} contacts={} "
+                         "wall={:.1f} s ETA={:.1f} s",
+                         n, steps, s.state().time, dt, o.kinetic_energy, o.broken_bonds,
+                         o.contact_count, el,
+                         el / static_cast<double>(n) * static_cast<double>(steps - n));
+            next_report = wall_seconds() + opt.progress_seconds;
+        }
+    }
+    obs.flush();
+    const double wall = wall_seconds() - wall0;
+    ctx.log.info("done: {} steps, {} frames, {} contact-list rebuilds, {:.3g} node-steps/s",
+                 steps, frames.frames(), s.contact().rebuilds(),
+                 static_cast<double>(m.nodes.num()) * static_cast<double>(steps) / wall);
+    ctx.log.info("{}", timers.table(wall));
+}
+
+} // namespace pd::pipeline

@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: MIT
+// pd-solve: run the explicit dynamics of a pd-file; frames and observables go into the file.
+#pragma once
+
+#include "core/tool.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace pd::pipeline {
+
+struct SolveOptions {
+    std::string file;
+    bool force_dt = false;         ///< accept a scene dt above the stability estimate
+    std::int64_t max_steps = -1;   ///< stop after this many steps (short runs, tests)
+    double progress_seconds = 10;  ///< wall time between progress lines
+    CommonOptions common;
+};
+
+void solve(const SolveOptions& opt, Context& ctx);
+
+} // namespace pd::pipeline

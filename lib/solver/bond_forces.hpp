@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: MIT
+// Peridynamic bond forces over the full CSR list: each thread writes only its own rows (no
+// atomics). Fracture bookkeeping is compiled out for unbreakable scenes.
+#pragma once
+
+#include "solver/state.hpp"
+
+namespace pd::solver {
+
+struct BondResult {
+    double elastic_energy = 0; ///< J (2D: per unit thickness), of intact bonds
+    std::int64_t newly_broken = 0; ///< bonds (each counted from both ends) broken this call
+};
+
+/// Sets f = PMB force density of every node of a moving body (0 elsewhere); breaks bonds whose
+/// stretch exceeds s0 (tension only) when `law.any_breakable`. Spec 1.5 with J = 1; constants in
+/// model/pmb.hpp.
+BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law);
+
+/// Damage phi_i = sum of beta V_j over broken bonds / sum over all bonds (spec decision 4).
+void damage_phi(const State& s, const BondData& b, std::vector<double>& phi);
+
+} // namespace pd::solver

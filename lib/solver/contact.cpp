@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+#include "solver/contact.hpp"
+
+#include "core/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+namespace pd::solver {
+
+ContactList::ContactList(const model::Model& m, double skin)
+    : skin_(skin), body_group_(m.bodies.group), body_offsets_(m.bodies.node_offsets) {
+    for (auto g : body_group_)
+        ngroups_ = std::max(ngroups_, g + 1);
+    law_of_.assign(static_cast<std::size_t>(ngroups_ * ngroups_), -1);
+    for (const auto& p : m.contact) {
+        if (p.group_a >= ngroups_ || p.group_b >= ngroups_ || p.stiffness <= 0 || p.radius <= 0)
+            continue;
+        const auto k = static_cast<std::int32_t>(laws_.size());
+        laws_.push_back(p);
+        law_of_[static_cast<std::size_t>(p.group_a * ngroups_ + p.group_b)] = k;
+        law_of_[static_cast<std::size_t>(p.group_b * ngroups_ + p.group_a)] = k;
+        rc_max_ = std::max(rc_max_, p.radius);
+    }
+    active_ = m.bodies.num() > 1 && !laws_.empty();
+}
+
+bool ContactList::update(const State& s) {
+    if (!active_)
+        return false;
+    if (built_) {
+        const double lim = 0.25 * skin_ * skin_; // (skin/2)^2
+        bool far = false;
+        const auto n = static_cast<std::int64_t>(s.n);
+#pragma omp parallel for schedule(static) reduction(|| : far)
+        for (std::int64_t i = 0; i < n; ++i) {
+            double d2 = 0;
+            for (int d = 0; d < 3; ++d) {
+                const double e = s.x[3 * i + d] - x_build_[3 * i + d];
+                d2 += e * e;
+            }
+            far = far || d2 > lim;
+        }
+        if (!far)
+            return false;
+    }
+    rebuild(s);
+    return true;
+}
+
+void ContactList::rebuild(const State& s) {
+    ++rebuilds_;
+    built_ = true;
+    x_build_ = s.x;
+    const std::size_t nb = body_offsets_.size() - 1;
+    const double reach = rc_max_ + skin_;
+    // Broad phase: body boxes in current configuration; keep bodies near another body they
+    // have a contact law with.
+    std::vector<double> lo(3 * nb, std::numeric_limits<double>::infinity()),
+        hi(3 * nb, -std::numeric_limits<double>::infinity());
+    for (std::size_t b = 0; b < nb; ++b)
+        for (auto i = body_offsets_[b]; i < body_offsets_[b + 1]; ++i)
+            for (int d = 0; d < 3; ++d) {
+                lo[3 * b + d] = std::min(lo[3 * b + d], s.x[3 * i + d]);
+                hi[3 * b + d] = std::max(hi[3 * b + d], s.x[3 * i + d]);
+            }
+    std::vector<std::size_t> order(nb);
+    for (std::size_t b = 0; b < nb; ++b)
+        order[b] = b;
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return lo[3 * a] < lo[3 * b]; });
+    std::vector<std::uint8_t> near(nb, 0);
+    for (std::size_t ia = 0; ia < nb; ++ia) {
+        const auto a = order[ia];
+        for (std::size_t ib = ia + 1; ib < nb && lo[3 * order[ib]] <= hi[3 * a] + reach; ++ib) {
+            const auto b = order[ib];
+            bool overlap = true;
+            for (int d = 1; d < 3; ++d)
+                overlap = overlap && lo[3 * b + d] <= hi[3 * a + d] + reach &&
+                          lo[3 * a + d] <= hi[3 * b + d] + reach;
+            if (overlap && law_of_[static_cast<std::size_t>(body_group_[a] * ngroups_ +
+                                                            body_group_[b])] >= 0)
+                near[a] = near[b] = 1;
+        }
+    }
+    // Cell list over the nodes of near bodies, cell size = reach.
+    std::vector<index_t> active_nodes;
+    for (std::size_t b = 0; b < nb; ++b)
+        if (near[b])
+            for (auto i = body_offsets_[b]; i < body_offsets_[b + 1]; ++i)
+                active_nodes.push_back(static_cast<index_t>(i));
+    // Exact cell keys: integer cell coordinates from the box of the active nodes, 21 bits each.
+    double origin[3] = {0, 0, 0};
+    if (!active_nodes.empty())
+        for (int d = 0; d < 3; ++d) {
+            origin[d] = std::numeric_limits<double>::infinity();
+            double top = -origin[d];
+            for (auto i : active_nodes) {
+                origin[d] = std::min(origin[d], s.x[3 * i + d]);
+                top = std::max(top, s.x[3 * i + d]);
+            }
+            if ((top - origin[d]) / reach > double(1 << 20))
+                throw NumericalError(fmt::format(
+                    "contact search: the scene spans {:.3g} m, over 2^20 contact cells of {:.3g} "
+                    "m (did a node fly away?)",
+                    top - origin[d], reach));
+            origin[d] -= reach; // keeps every cell coordinate >= 1, so neighbours >= 0
+        }
+    auto cell_of = [&](const double* x, int dx, int dy, int dz) {
+        const auto cx = static_cast<std::int64_t>((x[0] - origin[0]) / reach) + dx;
+        const auto cy = static_cast<std::int64_t>((x[1] - origin[1]) / reach) + dy;
+        const auto cz = static_cast<std::int64_t>((x[2] - origin[2]) / reach) + dz;
+        return (cx << 42) | (cy << 21) | cz;
+    };
+    std::unordered_map<std::int64_t, std::vector<index_t>> cells;
+    cells.reserve(active_nodes.size());
+    for (auto i : active_nodes)
+        cells[cell_of(&s.x[3 * i], 0, 0, 0)].push_back(i);
+    const bool flat = [&] {
+        for (auto i : active_nodes)
+            if (s.x[3 * i + 2] != 0.0)
+                return false;
+        return true;
+    }();
+    const int zr = flat ? 0 : 1;
+    std::vector<std::vector<index_t>> rows(s.n);
+    std::vector<std::vector<std::int32_t>> laws(s.n);
+    const double r2max = reach * reach;
+    const auto na = static_cast<std::int64_t>(active_nodes.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::int64_t a = 0; a < na; ++a) {
+        const index_t i = active_nodes[static_cast<std::size_t>(a)];
+        const double* xi = &s.x[3 * i];
+        const auto gi = body_group_[static_cast<std::size_t>(s.body[i])];
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -zr; dz <= zr; ++dz) {
+                    auto it = cells.find(cell_of(xi, dx, dy, dz));
+                    if (it == cells.end())
+                        continue;
+                    for (index_t j : it->second) {
+                        if (s.body[j] == s.body[i])
+                            continue;
+                        const auto law = law_of_[static_cast<std::size_t>(
+                            gi * ngroups_ + body_group_[static_cast<std::size_t>(s.body[j])])];
+                        if (law < 0)
+                            continue;
+                        double r2 = 0;
+                        for (int d = 0; d < 3; ++d)
+                            r2 += (s.x[3 * j + d] - xi[d]) * (s.x[3 * j + d] - xi[d]);
+                        if (r2 < r2max) {
+                            rows[i].push_back(j);
+                            laws[i].push_back(law);
+                        }
+                    }
+                }
+    }
+    offsets_.assign(s.n + 1, 0);
+    for (std::size_t i = 0; i < s.n; ++i)
+        offsets_[i + 1] = offsets_[i] + static_cast<model::offset_t>(rows[i].size());
+    neighbor_.clear();
+    law_.clear();
+    neighbor_.reserve(static_cast<std::size_t>(offsets_.back()));
+    law_.reserve(static_cast<std::size_t>(offsets_.back()));
+    for (std::size_t i = 0; i < s.n; ++i) {
+        // Sorted rows: the force sum order is independent of thread count and hash layout.
+        std::vector<std::size_t> idx(rows[i].size());
+        for (std::size_t k = 0; k < idx.size(); ++k)
+            idx[k] = k;
+        std::sort(idx.begin(), idx.end(), [&](auto a, auto b) { return rows[i][a] < rows[i][b]; });
+        for (auto k : idx) {
+            neighbor_.push_back(rows[i][k]);
+            law_.push_back(laws[i][k]);
+        }
+    }
+}
+
+std::int64_t ContactList::add_forces(State& s) const {
+    if (!active_ || !built_)
+        return 0;
+    const auto n = static_cast<std::int64_t>(s.n);
+    std::int64_t touching = 0;
+#pragma omp parallel for schedule(static) reduction(+ : touching)
+    for (std::int64_t i = 0; i < n; ++i) {
+        const double* xi = &s.x[3 * i];
+        double fi[3] = {0, 0, 0};
+        for (auto k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+            const index_t j = neighbor_[static_cast<std::size_t>(k)];
+            const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
+            const double d0 = s.x[3 * j] - xi[0], d1 = s.x[3 * j + 1] - xi[1],
+                         d2 = s.x[3 * j + 2] - xi[2];
+            const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
+            if (r2 >= law.radius * law.radius)
+                continue;
+            const double r = std::sqrt(r2);
+            const double a = law.stiffness * (r - law.radius) * s.vol[j] / r;
+            fi[0] += a * d0;
+            fi[1] += a * d1;
+            fi[2] += a * d2;
+            if (i < j)
+                ++touching;
+        }
+        s.f[3 * i] += fi[0];
+        s.f[3 * i + 1] += fi[1];
+        s.f[3 * i + 2] += fi[2];
+    }
+    return touching;
+}
+
+} // namespace pd::solver

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+// Node-to-node normal contact between different bodies (spec 4.3, pdgrain decisions):
+//   f_i += Kn (R - R_c) V_j (y_j - y_i)/R   for R = |y_j - y_i| < R_c,
+// a force density; the nodal force Kn (R_c - R) V_i V_j is symmetric, so momentum is conserved.
+// Candidate pairs come from a broad phase over body bounding boxes (only bodies whose boxes come
+// within reach are searched), then a cell list over the nodes of those bodies, with a skin: the
+// list is rebuilt only when some node moved more than half the skin since the last build.
+#pragma once
+
+#include "model/model.hpp"
+#include "solver/state.hpp"
+
+namespace pd::solver {
+
+class ContactList {
+  public:
+    /// `skin` > 0. Bodies in groups with no contact law never interact.
+    ContactList(const model::Model& m, double skin);
+
+    /// True if the scene can have any contact at all (two or more bodies with a law).
+    bool active() const { return active_; }
+    double max_radius() const { return rc_max_; }
+
+    /// Rebuilds the candidate list if needed; returns true if it did.
+    bool update(const State& s);
+    /// Adds contact force densities to s.f; returns the number of node pairs in contact.
+    std::int64_t add_forces(State& s) const;
+    std::int64_t rebuilds() const { return rebuilds_; }
+    std::size_t num_candidates() const { return neighbor_.size(); }
+
+  private:
+    void rebuild(const State& s);
+
+    bool active_ = false;
+    double skin_ = 0;
+    double rc_max_ = 0;
+    int ngroups_ = 0;
+    std::vector<std::int32_t> body_group_;
+    std::vector<model::offset_t> body_offsets_;
+    std::vector<std::int32_t> law_of_; ///< ngroups x ngroups -> index into laws_ or -1
+    std::vector<model::ContactPair> laws_;
+    // CSR candidate list (full: i->j and j->i) and the law of each candidate.
+    std::vector<model::offset_t> offsets_;
+    std::vector<index_t> neighbor_;
+    std::vector<std::int32_t> law_;
+    std::vector<double> x_build_;
+    bool built_ = false;
+    std::int64_t rebuilds_ = 0;
+};
+
+} // namespace pd::solver

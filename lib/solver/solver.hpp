@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: MIT
+// Explicit dynamics of a model::Model: PMB bond forces, contact, gravity; velocity Verlet
+// (default) or symplectic Euler; the stable time step estimate; observables. No I/O here.
+#pragma once
+
+#include "core/timer.hpp"
+#include "model/model.hpp"
+#include "solver/contact.hpp"
+#include "solver/state.hpp"
+
+#include <memory>
+#include <string>
+
+namespace pd::solver {
+
+/// Stable time step estimate (s) and the limit that governs it.
+struct StableDt {
+    double pd = 0;      ///< bond limit, Silling & Askari 2005: min_i sqrt(2 rho / sum_j c beta V_j / xi)
+    double contact = 0; ///< contact limit sqrt(2 rho / (Kn sum V_j)) over a contact disc of R_c
+    double limit = 0;   ///< min of the two
+    std::string governing; ///< "peridynamic bonds" or "contact stiffness"
+};
+
+/// Quantities observed after a step (2D: per unit thickness).
+struct Observables {
+    double kinetic_energy = 0;    ///< J
+    double elastic_energy = 0;    ///< J
+    double momentum[3] = {0, 0, 0}; ///< kg m s-1
+    std::int64_t contact_count = 0; ///< node pairs closer than R_c
+    std::int64_t broken_bonds = 0;  ///< broken bonds (pairs)
+};
+
+class Solver {
+  public:
+    explicit Solver(const model::Model& m);
+
+    StableDt stable_dt() const;
+    void set_dt(double dt) { dt_ = dt; }
+    double dt() const { return dt_; }
+
+    /// Sets initial velocities and computes forces at t = 0. Call once before step().
+    void initialize();
+    /// Restores a state (restart) and recomputes forces without breaking bonds anew.
+    void advance();
+    Observables observe() const;
+
+    State& state() { return s_; }
+    const State& state() const { return s_; }
+    const BondData& bonds() const { return b_; }
+    BondData& bonds() { return b_; }
+    /// phi per node.
+    void damage(std::vector<double>& phi) const;
+    /// Nodal force f V (N) per node, 3 per node.
+    void nodal_force(std::vector<double>& out) const;
+    /// Index of the first node with a non-finite position or velocity, or -1.
+    std::int64_t first_nonfinite() const;
+    Timers& timers() { return timers_; }
+    const ContactList& contact() const { return *contact_; }
+    std::int64_t broken_total() const { return broken_total_; }
+
+  private:
+    void compute_forces();
+
+    const model::Model& m_;
+    State s_;
+    BondData b_;
+    BodyLaw law_;
+    std::unique_ptr<ContactList> contact_;
+    double dt_ = 0;
+    double g_[3] = {0, 0, 0};
+    double elastic_energy_ = 0;
+    std::int64_t contact_count_ = 0;
+    std::int64_t broken_total_ = 0; ///< from both ends
+    Timers timers_;
+    int t_bonds_, t_contact_, t_search_, t_integrate_;
+};
+
+} // namespace pd::solver

@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+// Solver state: structure of arrays over owned nodes [0, n) (ghosts would follow, STYLE 2.2),
+// 3-vectors interleaved. Bonds in CSR with per-bond reference length, partial-volume factor and
+// alive flag. Built once from a model::Model.
+#pragma once
+
+#include "model/model.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace pd::solver {
+
+using model::index_t;
+using model::offset_t;
+
+struct State {
+    std::size_t n = 0;
+    std::vector<double> x0;  ///< reference position (3n), m
+    std::vector<double> x;   ///< current position (3n), m
+    std::vector<double> u;   ///< displacement (3n), m
+    std::vector<double> v;   ///< velocity (3n), m s-1
+    std::vector<double> f;   ///< force density (3n), N m-3
+    std::vector<double> vol; ///< nodal volume, m3
+    std::vector<double> rho; ///< density, kg m-3
+    std::vector<std::int32_t> body;
+    std::vector<std::uint8_t> moving; ///< 1 = integrated (free body)
+    std::int64_t step = 0;
+    double time = 0;
+};
+
+struct BondData {
+    std::vector<offset_t> offsets;
+    std::vector<index_t> neighbor;
+    std::vector<double> xi;          ///< reference bond length, m
+    std::vector<double> beta;        ///< partial-volume factor (spec 1.3)
+    std::vector<std::uint8_t> alive; ///< 1 intact, 0 broken
+};
+
+/// Per-body constants of the bond law (bonds never cross bodies).
+struct BodyLaw {
+    std::vector<double> c;  ///< PMB micromodulus, N m-6
+    std::vector<double> s0; ///< critical stretch (inf = unbreakable)
+    bool any_breakable = false;
+};
+
+} // namespace pd::solver

@@ -1,0 +1,250 @@
+// SPDX-License-Identifier: MIT
+#include "store/frames.hpp"
+
+#include "core/errors.hpp"
+#include "h5/file.hpp"
+#include "store/schema.hpp"
+
+#include <algorithm>
+
+namespace pd::store {
+
+namespace {
+const std::string P = path::particles;
+const std::string O = path::observables;
+
+std::string field_path(const std::string& field) { return P + "/" + field; }
+} // namespace
+
+const std::vector<FieldInfo>& frame_fields() {
+    static const std::vector<FieldInfo> f{{"position", 3, "m"},
+                                          {"velocity", 3, "m s-1"},
+                                          {"displacement", 3, "m"},
+                                          {"force", 3, "N"},
+                                          {"damage", 1, "1"}};
+    return f;
+}
+
+const std::vector<ObservableInfo>& observable_list() {
+    static const std::vector<ObservableInfo> o{{"kinetic_energy", 1, "J"},
+                                               {"elastic_energy", 1, "J"},
+                                               {"momentum", 3, "kg m s-1"},
+                                               {"contact_count", 1, "1"},
+                                               {"broken_bonds", 1, "1"}};
+    return o;
+}
+
+static const FieldInfo& field_info(const std::string& name) {
+    for (const auto& fi : frame_fields())
+        if (fi.name == name)
+            return fi;
+    throw InputError("unknown frame field '" + name + "' (known: position, velocity, "
+                     "displacement, force, damage)");
+}
+
+void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& species,
+                              const std::vector<double>& mass) {
+    f.write(P + "/species", species);
+    f.set_attr(P + "/species", "unit", "1");
+    f.write(P + "/mass", mass);
+    f.set_attr(P + "/mass", "unit", "kg");
+}
+
+FrameWriter::FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields)
+    : f_(f), n_(num_nodes) {
+    fields_.push_back("position");
+    for (auto& name : fields)
+        if (name != "position" && std::find(fields_.begin(), fields_.end(), name) == fields_.end()) {
+            field_info(name);
+            fields_.push_back(name);
+        }
+    if (f_.exists(field_path("position") + "/value")) { // appending (restart)
+        frames_ = f_.shape(field_path("position") + "/step")[0];
+        for (auto& name : fields_)
+            if (!f_.exists(field_path(name) + "/value"))
+                throw SchemaError(f_.name(), field_path(name),
+                                  "missing; cannot append frames with a different field set");
+        return;
+    }
+    f_.create_group(P + "/box");
+    f_.set_attr(P + "/box", "dimension", std::int32_t{3});
+    f_.set_attr(P + "/box", "boundary", std::vector<std::string>{"none", "none", "none"});
+    const std::string pos = field_path("position");
+    f_.create_extendible<std::int64_t>(pos + "/step", {}, 1024);
+    f_.create_extendible<double>(pos + "/time", {}, 1024);
+    f_.set_attr(pos + "/step", "unit", "1");
+    f_.set_attr(pos + "/time", "unit", "s");
+    for (auto& name : fields_) {
+        const auto& fi = field_info(name);
+        const std::string g = field_path(name);
+        h5::dims_t inner{n_};
+        if (fi.components == 3)
+            inner.push_back(3);
+        f_.create_extendible<double>(g + "/value", inner, 1);
+        f_.set_attr(g + "/value", "unit", fi.unit);
+        if (name != "position") {
+            f_.hard_link(pos + "/step", g + "/step");
+            f_.hard_link(pos + "/time", g + "/time");
+        }
+    }
+    f_.flush();
+}
+
+void FrameWriter::write(std::int64_t step, double time,
+                        const std::map<std::string, std::span<const double>>& data) {
+    for (auto& name : fields_) {
+        auto it = data.find(name);
+        if (it == data.end())
+            throw InternalError("frame field '" + name + "' not provided");
+        const auto& fi = field_info(name);
+        if (it->second.size() != n_ * static_cast<std::size_t>(fi.components))
+            throw InternalError("frame field '" + name + "' has the wrong size");
+        f_.append<double>(field_path(name) + "/value", it->second, 1);
+    }
+    const std::string pos = field_path("position");
+    f_.append<std::int64_t>(pos + "/step", std::span<const std::int64_t>(&step, 1), 1);
+    f_.append<double>(pos + "/time", std::span<const double>(&time, 1), 1);
+    f_.flush();
+    ++frames_;
+}
+
+FrameReader::FrameReader(const h5::File& f) : f_(f) {
+    const std::string pos = field_path("position");
+    if (!f_.exists(pos + "/value"))
+        throw SchemaError(f_.name(), pos + "/value", "missing: the file has no frames (run pd-solve)");
+    steps_ = f_.read<std::int64_t>(pos + "/step");
+    times_ = f_.read<double>(pos + "/time");
+    auto sh = f_.shape(pos + "/value");
+    if (sh.size() != 3 || sh[2] != 3)
+        throw SchemaError(f_.name(), pos + "/value", "expected shape (frames, nodes, 3)");
+    if (sh[0] < steps_.size() || times_.size() != steps_.size())
+        throw SchemaError(f_.name(), pos + "/step",
+                          fmt::format("{} steps, {} times, {} frames of values", steps_.size(),
+                                      times_.size(), sh[0]));
+    n_ = sh[1];
+}
+
+std::vector<std::string> FrameReader::fields() const {
+    std::vector<std::string> out;
+    for (const auto& fi : frame_fields())
+        if (f_.exists(field_path(fi.name) + "/value"))
+            out.push_back(fi.name);
+    return out;
+}
+
+int FrameReader::components(const std::string& field) const { return field_info(field).components; }
+
+std::string FrameReader::unit(const std::string& field) const {
+    const std::string p = field_path(field) + "/value";
+    return f_.has_attr(p, "unit") ? f_.attr_string(p, "unit") : field_info(field).unit;
+}
+
+std::vector<double> FrameReader::read(const std::string& field, std::size_t k) const {
+    const std::string p = field_path(field) + "/value";
+    auto v = f_.read_rows<double>(p, k, 1);
+    if (v.size() != n_ * static_cast<std::size_t>(components(field)))
+        throw SchemaError(f_.name(), p, "has the wrong number of nodes");
+    return v;
+}
+
+ObservableWriter::ObservableWriter(h5::File& f) : f_(f) {}
+
+void ObservableWriter::add(std::int64_t step, double time, std::span<const double> values) {
+    steps_.push_back(step);
+    times_.push_back(time);
+    values_.insert(values_.end(), values.begin(), values.end());
+}
+
+void ObservableWriter::flush() {
+    const auto& list = observable_list();
+    const std::string first = O + "/" + list.front().name;
+    if (!f_.exists(first + "/value")) {
+        f_.create_extendible<std::int64_t>(first + "/step", {}, 4096);
+        f_.create_extendible<double>(first + "/time", {}, 4096);
+        f_.set_attr(first + "/step", "unit", "1");
+        f_.set_attr(first + "/time", "unit", "s");
+        for (const auto& o : list) {
+            const std::string g = O + "/" + o.name;
+            h5::dims_t inner;
+            if (o.components == 3)
+                inner.push_back(3);
+            f_.create_extendible<double>(g + "/value", inner, 4096);
+            f_.set_attr(g + "/value", "unit", o.unit);
+            if (g != first) {
+                f_.hard_link(first + "/step", g + "/step");
+                f_.hard_link(first + "/time", g + "/time");
+            }
+        }
+    }
+    const std::size_t rows = steps_.size();
+    if (rows == 0)
+        return;
+    std::size_t width = 0;
+    for (const auto& o : list)
+        width += static_cast<std::size_t>(o.components);
+    std::size_t col = 0;
+    for (const auto& o : list) {
+        std::vector<double> v;
+        v.reserve(rows * static_cast<std::size_t>(o.components));
+        for (std::size_t r = 0; r < rows; ++r)
+            for (int c = 0; c < o.components; ++c)
+                v.push_back(values_[r * width + col + static_cast<std::size_t>(c)]);
+        f_.append<double>(O + "/" + o.name + "/value", v, rows);
+        col += static_cast<std::size_t>(o.components);
+    }
+    f_.append<std::int64_t>(first + "/step", steps_, rows);
+    f_.append<double>(first + "/time", times_, rows);
+    steps_.clear();
+    times_.clear();
+    values_.clear();
+    f_.flush();
+}
+
+std::map<std::string, Series> read_observables(const h5::File& f) {
+    std::map<std::string, Series> out;
+    if (!f.exists(O))
+        return out;
+    for (const auto& name : f.list(O)) {
+        const std::string g = O + "/" + name;
+        if (!f.exists(g + "/value"))
+            continue;
+        Series s;
+        h5::dims_t d;
+        s.value = f.read<double>(g + "/value", &d);
+        s.components = d.size() == 2 ? static_cast<int>(d[1]) : 1;
+        s.step = f.read<std::int64_t>(g + "/step");
+        s.time = f.read<double>(g + "/time");
+        s.unit = f.has_attr(g + "/value", "unit") ? f.attr_string(g + "/value", "unit") : "";
+        if (s.step.size() != d[0] || s.time.size() != d[0])
+            throw SchemaError(f.name(), g, "step, time and value lengths differ");
+        out.emplace(name, std::move(s));
+    }
+    return out;
+}
+
+void truncate_after(h5::File& f, std::int64_t step) {
+    auto cut = [&](const std::string& owner, const std::vector<std::string>& values) {
+        if (!f.exists(owner + "/step"))
+            return;
+        auto steps = f.read<std::int64_t>(owner + "/step");
+        auto keep = static_cast<std::uint64_t>(
+            std::upper_bound(steps.begin(), steps.end(), step) - steps.begin());
+        if (keep == steps.size())
+            return;
+        f.resize_rows(owner + "/step", keep);
+        f.resize_rows(owner + "/time", keep);
+        for (const auto& v : values)
+            if (f.exists(v))
+                f.resize_rows(v, keep);
+    };
+    std::vector<std::string> fv;
+    for (const auto& fi : frame_fields())
+        fv.push_back(field_path(fi.name) + "/value");
+    cut(field_path("position"), fv);
+    std::vector<std::string> ov;
+    for (const auto& o : observable_list())
+        ov.push_back(O + "/" + o.name + "/value");
+    cut(O + "/" + observable_list().front().name, ov);
+}
+
+} // namespace pd::store

@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: MIT
+// Time-dependent data in H5MD 1.1 form:
+//   /particles/nodes/<field>/{step, time, value}   value (frames, nodes, 3) or (frames, nodes)
+//   /observables/<name>/{step, time, value}         value (rows) or (rows, 3)
+// step/time of every field are hard links to those of `position` (of `kinetic_energy` for
+// observables). 2D runs store z = 0.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pd::h5 {
+class File;
+}
+
+namespace pd::store {
+
+/// A nodal field stored in frames.
+struct FieldInfo {
+    std::string name;  ///< "position", "velocity", "displacement", "force", "damage"
+    int components;    ///< 3 or 1
+    std::string unit;  ///< SI unit string
+};
+
+/// The nodal fields pd-solve can write, in this order.
+const std::vector<FieldInfo>& frame_fields();
+
+/// Appends frames to /particles/nodes. Creates the groups on first use.
+class FrameWriter {
+  public:
+    /// `fields` are names from frame_fields(); position is always written.
+    FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields);
+    /// Appends one frame; `data` maps each field name to num_nodes * components values.
+    void write(std::int64_t step, double time,
+               const std::map<std::string, std::span<const double>>& data);
+    std::size_t frames() const { return frames_; }
+    const std::vector<std::string>& fields() const { return fields_; }
+
+  private:
+    h5::File& f_;
+    std::size_t n_;
+    std::vector<std::string> fields_;
+    std::size_t frames_ = 0;
+};
+
+/// Reads frames one at a time (memory does not grow with the number of frames).
+class FrameReader {
+  public:
+    explicit FrameReader(const h5::File& f);
+    std::size_t num_frames() const { return steps_.size(); }
+    std::size_t num_nodes() const { return n_; }
+    std::vector<std::string> fields() const; ///< present fields
+    int components(const std::string& field) const;
+    std::string unit(const std::string& field) const;
+    std::int64_t step(std::size_t k) const { return steps_[k]; }
+    double time(std::size_t k) const { return times_[k]; }
+    /// Values of `field` at frame k: num_nodes * components.
+    std::vector<double> read(const std::string& field, std::size_t k) const;
+
+  private:
+    const h5::File& f_;
+    std::size_t n_ = 0;
+    std::vector<std::int64_t> steps_;
+    std::vector<double> times_;
+};
+
+/// One observable series as read back.
+struct Series {
+    std::string unit;
+    int components = 1;
+    std::vector<std::int64_t> step;
+    std::vector<double> time;
+    std::vector<double> value; ///< rows * components
+};
+
+/// Observables that pd-solve writes: name -> (components, unit).
+struct ObservableInfo {
+    std::string name;
+    int components;
+    std::string unit;
+};
+const std::vector<ObservableInfo>& observable_list();
+
+/// Buffers observable rows in memory and appends them to /observables on flush().
+class ObservableWriter {
+  public:
+    explicit ObservableWriter(h5::File& f);
+    /// Adds one row; `values` holds, for each entry of observable_list() in order, its components.
+    void add(std::int64_t step, double time, std::span<const double> values);
+    void flush();
+    std::size_t buffered() const { return steps_.size(); }
+
+  private:
+    h5::File& f_;
+    std::vector<std::int64_t> steps_;
+    std::vector<double> times_;
+    std::vector<double> values_;
+};
+
+/// All series under /observables.
+std::map<std::string, Series> read_observables(const h5::File& f);
+
+/// Writes the time-independent H5MD elements species (= body id) and mass (kg) of each node.
+void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& species,
+                              const std::vector<double>& mass);
+
+/// Removes frames and observable rows with step > `step` (restart from a checkpoint).
+void truncate_after(h5::File& f, std::int64_t step);
+
+} // namespace pd::store

@@ -1,0 +1,331 @@
+// SPDX-License-Identifier: MIT
+#include "store/model_io.hpp"
+
+#include "core/errors.hpp"
+#include "core/version.hpp"
+#include "h5/file.hpp"
+#include "store/schema.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pd::store {
+
+namespace {
+
+using h5::dims_t;
+
+template <class T>
+void put(h5::File& f, const std::string& p, const std::vector<T>& v, const dims_t& dims,
+         const char* unit) {
+    f.write(p, v, dims);
+    f.set_attr(p, "unit", unit);
+}
+
+template <class T>
+void put_scalar(h5::File& f, const std::string& p, T v, const char* unit) {
+    f.write_scalar(p, v);
+    f.set_attr(p, "unit", unit);
+}
+
+/// Reads `p` and checks its shape against `want` (0 in `want` = any extent).
+template <class T>
+std::vector<T> get(const h5::File& f, const std::string& p, const dims_t& want) {
+    if (!f.exists(p))
+        throw SchemaError(f.name(), p, "missing dataset");
+    dims_t got;
+    auto v = f.read<T>(p, &got);
+    bool ok = got.size() == want.size();
+    for (std::size_t i = 0; ok && i < want.size(); ++i)
+        ok = want[i] == 0 || want[i] == got[i];
+    if (!ok) {
+        auto fmt_dims = [](const dims_t& d) {
+            std::string s = "(";
+            for (std::size_t i = 0; i < d.size(); ++i)
+                s += (i ? ", " : "") + (d[i] ? std::to_string(d[i]) : std::string("any"));
+            return s + (d.size() == 1 ? ",)" : ")");
+        };
+        throw SchemaError(f.name(), p,
+                          fmt::format("shape {}, expected {} (pd-file {})", fmt_dims(got),
+                                      fmt_dims(want), schema_version));
+    }
+    if constexpr (std::is_floating_point_v<T>) {
+        for (std::size_t i = 0; i < v.size(); ++i)
+            if (!std::isfinite(v[i]))
+                throw SchemaError(f.name(), p, fmt::format("entry {} is not finite", i));
+    }
+    return v;
+}
+
+template <class T>
+T get_scalar(const h5::File& f, const std::string& p) {
+    if (!f.exists(p))
+        throw SchemaError(f.name(), p, "missing dataset");
+    return f.read_scalar<T>(p);
+}
+
+template <class T>
+void require_range(const h5::File& f, const std::string& p, const std::vector<T>& v, T lo,
+                   T hi) {
+    for (std::size_t i = 0; i < v.size(); ++i)
+        if (v[i] < lo || v[i] >= hi)
+            throw SchemaError(f.name(), p,
+                              fmt::format("entry {} = {} outside [{}, {})", i, v[i], lo, hi));
+}
+
+const char* law_name(model::Law) { return "pmb"; }
+
+} // namespace
+
+void write_model(h5::File& f, const model::Model& m) {
+    m.check_consistency();
+    const std::uint64_t nb = m.bodies.num(), n = m.nodes.num();
+    // Root attributes and H5MD header.
+    f.set_attr("/", "schema", schema_name);
+    f.set_attr("/", "schema_version", schema_version);
+    f.set_attr("/", "units", "SI");
+    f.set_attr("/", "dimension", static_cast<std::int32_t>(m.dimension));
+    f.set_attr("/", "planar", m.dimension == 3 ? "none"
+                              : m.planar == model::Planar::plane_stress ? "plane_stress"
+                                                                         : "plane_strain");
+    f.set_attr("/", "thickness", 1.0);
+    f.set_attr("/", "title", m.title);
+    f.create_group("/h5md/author");
+    f.create_group("/h5md/creator");
+    f.create_group("/h5md/modules/units");
+    f.set_attr("/h5md", "version", std::vector<std::int32_t>{1, 1});
+    f.set_attr("/h5md/author", "name", "pdgrain user");
+    f.set_attr("/h5md/creator", "name", "pdgrain");
+    f.set_attr("/h5md/creator", "version", pd::version);
+    f.set_attr("/h5md/modules/units", "version", std::vector<std::int32_t>{1, 0});
+    f.set_attr("/h5md/modules/units", "system", "SI");
+    f.write_string(path::parameters_scene, m.scene_json);
+
+    // Materials.
+    f.create_group(path::materials);
+    for (std::size_t k = 0; k < m.materials.size(); ++k) {
+        const auto& mat = m.materials[k];
+        const std::string g = std::string(path::materials) + "/" + mat.name;
+        f.create_group(g);
+        f.set_attr(g, "law", law_name(mat.law));
+        f.set_attr(g, "index", static_cast<std::int32_t>(k));
+        put_scalar(f, g + "/density", mat.density, "kg m-3");
+        put_scalar(f, g + "/youngs_modulus", mat.youngs_modulus, "Pa");
+        put_scalar(f, g + "/poisson_ratio", mat.poisson_ratio, "1");
+        put_scalar(f, g + "/fracture_energy", mat.fracture_energy, "J m-2");
+    }
+    // Reference meshes.
+    for (std::size_t k = 0; k < m.ref_meshes.size(); ++k) {
+        const auto& rm = m.ref_meshes[k];
+        const std::string g = fmt::format("{}/mesh_{}", path::reference_meshes, k);
+        f.create_group(g);
+        f.set_attr(g, "name", rm.name);
+        f.set_attr(g, "cell_type", rm.nodes_per_cell == 4 && m.dimension == 3 ? "tetra"
+                                   : rm.nodes_per_cell == 4                   ? "quad"
+                                                                              : "triangle");
+        put(f, g + "/nodes", rm.nodes, {rm.nodes.size() / 3, 3}, "m");
+        put(f, g + "/cells", rm.cells,
+            {rm.cells.size() / static_cast<std::size_t>(rm.nodes_per_cell),
+             static_cast<std::uint64_t>(rm.nodes_per_cell)},
+            "1");
+    }
+    // Bodies.
+    const std::string b = path::bodies;
+    const auto& B = m.bodies;
+    put(f, b + "/node_offsets", B.node_offsets, {nb + 1}, "1");
+    put(f, b + "/material", B.material, {nb}, "1");
+    put(f, b + "/group", B.group, {nb}, "1");
+    put(f, b + "/ref_mesh", B.ref_mesh, {nb}, "1");
+    std::vector<std::uint8_t> kind(nb);
+    std::transform(B.kind.begin(), B.kind.end(), kind.begin(),
+                   [](model::BodyKind k) { return static_cast<std::uint8_t>(k); });
+    put(f, b + "/kind", kind, {nb}, "1");
+    put(f, b + "/fixed", B.fixed, {nb}, "1");
+    put(f, b + "/center", B.center, {nb, 3}, "m");
+    put(f, b + "/bounding_radius", B.bounding_radius, {nb}, "m");
+    put(f, b + "/orientation", B.orientation, {nb}, "rad");
+    put(f, b + "/scale", B.scale, {nb}, "1");
+    put(f, b + "/initial_velocity", B.initial_velocity, {nb, 3}, "m s-1");
+    put(f, b + "/mesh_size", B.mesh_size, {nb}, "m");
+    put(f, b + "/horizon", B.horizon, {nb}, "m");
+    // Nodes and bonds.
+    put(f, std::string(path::nodes) + "/reference_position", m.nodes.x0, {n, 3}, "m");
+    put(f, std::string(path::nodes) + "/volume", m.nodes.volume, {n}, "m3");
+    put(f, std::string(path::nodes) + "/body", m.nodes.body, {n}, "1");
+    put(f, std::string(path::bonds) + "/offsets", m.bonds.offsets, {n + 1}, "1");
+    put(f, std::string(path::bonds) + "/neighbor", m.bonds.neighbor, {m.bonds.num()}, "1");
+    // Contact table.
+    const std::string c = path::contact;
+    const std::uint64_t np = m.contact.size();
+    std::vector<std::int32_t> ga, gb;
+    std::vector<double> rad, kn, eps, mu;
+    for (const auto& p : m.contact) {
+        ga.push_back(p.group_a);
+        gb.push_back(p.group_b);
+        rad.push_back(p.radius);
+        kn.push_back(p.stiffness);
+        eps.push_back(p.restitution);
+        mu.push_back(p.friction);
+    }
+    f.create_group(c);
+    put(f, c + "/group_a", ga, {np}, "1");
+    put(f, c + "/group_b", gb, {np}, "1");
+    put(f, c + "/radius", rad, {np}, "m");
+    put(f, c + "/stiffness", kn, {np}, "N m-7");
+    put(f, c + "/restitution", eps, {np}, "1");
+    put(f, c + "/friction", mu, {np}, "1");
+    // Loading and solver settings.
+    put(f, std::string(path::loading) + "/gravity",
+        std::vector<double>(m.loading.gravity.begin(), m.loading.gravity.end()), {3}, "m s-2");
+    const std::string s = path::solver;
+    const auto& S = m.solver;
+    put_scalar(f, s + "/final_time", S.final_time, "s");
+    put_scalar(f, s + "/dt", S.dt, "s");
+    put_scalar(f, s + "/dt_safety", S.dt_safety, "1");
+    put_scalar(f, s + "/output_interval", S.output_interval, "s");
+    put_scalar(f, s + "/observe_every", S.observe_every, "1");
+    put_scalar(f, s + "/contact_skin", S.contact_skin, "m");
+    f.set_attr(s, "integrator", S.integrator == model::Integrator::velocity_verlet
+                                    ? "velocity_verlet"
+                                    : "symplectic_euler");
+    f.flush();
+}
+
+model::Model read_model(const h5::File& f) {
+    check_version(f);
+    model::Model m;
+    m.dimension = f.attr<std::int32_t>("/", "dimension");
+    if (m.dimension != 2 && m.dimension != 3)
+        throw SchemaError(f.name(), "/", fmt::format("attribute dimension = {}, expected 2 or 3",
+                                                     m.dimension));
+    const std::string planar = f.attr_string("/", "planar");
+    m.planar = planar == "plane_strain" ? model::Planar::plane_strain
+                                        : model::Planar::plane_stress;
+    m.title = f.has_attr("/", "title") ? f.attr_string("/", "title") : "";
+    m.scene_json = f.exists(path::parameters_scene) ? f.read_string(path::parameters_scene) : "";
+
+    // Materials (ordered by their index attribute).
+    if (!f.exists(path::materials))
+        throw SchemaError(f.name(), path::materials, "missing group");
+    auto names = f.list(path::materials);
+    m.materials.resize(names.size());
+    for (const auto& name : names) {
+        const std::string g = std::string(path::materials) + "/" + name;
+        auto k = f.attr<std::int32_t>(g, "index");
+        if (k < 0 || static_cast<std::size_t>(k) >= names.size())
+            throw SchemaError(f.name(), g, fmt::format("index {} out of range", k));
+        auto& mat = m.materials[static_cast<std::size_t>(k)];
+        mat.name = name;
+        if (f.attr_string(g, "law") != "pmb")
+            throw SchemaError(f.name(), g, "law '" + f.attr_string(g, "law") + "' unknown");
+        mat.density = get_scalar<double>(f, g + "/density");
+        mat.youngs_modulus = get_scalar<double>(f, g + "/youngs_modulus");
+        mat.poisson_ratio = get_scalar<double>(f, g + "/poisson_ratio");
+        mat.fracture_energy = get_scalar<double>(f, g + "/fracture_energy");
+        if (!(mat.density > 0) || !(mat.youngs_modulus > 0))
+            throw SchemaError(f.name(), g, "density and youngs_modulus must be positive");
+    }
+    // Reference meshes.
+    if (f.exists(path::reference_meshes)) {
+        for (std::size_t k = 0;; ++k) {
+            const std::string g = fmt::format("{}/mesh_{}", path::reference_meshes, k);
+            if (!f.exists(g))
+                break;
+            model::RefMesh rm;
+            rm.name = f.attr_string(g, "name");
+            rm.nodes = get<double>(f, g + "/nodes", {0, 3});
+            h5::dims_t d;
+            rm.cells = f.read<std::int32_t>(g + "/cells", &d);
+            rm.nodes_per_cell = d.size() == 2 ? static_cast<int>(d[1]) : 3;
+            m.ref_meshes.push_back(std::move(rm));
+        }
+    }
+    // Bodies.
+    const std::string b = path::bodies;
+    auto& B = m.bodies;
+    B.material = get<std::int32_t>(f, b + "/material", {0});
+    const std::uint64_t nb = B.material.size();
+    B.node_offsets = get<std::int64_t>(f, b + "/node_offsets", {nb + 1});
+    B.group = get<std::int32_t>(f, b + "/group", {nb});
+    B.ref_mesh = get<std::int32_t>(f, b + "/ref_mesh", {nb});
+    auto kind = get<std::uint8_t>(f, b + "/kind", {nb});
+    for (auto k : kind)
+        B.kind.push_back(static_cast<model::BodyKind>(k));
+    B.fixed = get<std::uint8_t>(f, b + "/fixed", {nb});
+    B.center = get<double>(f, b + "/center", {nb, 3});
+    B.bounding_radius = get<double>(f, b + "/bounding_radius", {nb});
+    B.orientation = get<double>(f, b + "/orientation", {nb});
+    B.scale = get<double>(f, b + "/scale", {nb});
+    B.initial_velocity = get<double>(f, b + "/initial_velocity", {nb, 3});
+    B.mesh_size = get<double>(f, b + "/mesh_size", {nb});
+    B.horizon = get<double>(f, b + "/horizon", {nb});
+    require_range<std::int32_t>(f, b + "/material", B.material, 0,
+                                static_cast<std::int32_t>(m.materials.size()));
+    for (std::size_t i = 0; i < nb; ++i)
+        if (!(B.horizon[i] > 0) || !(B.mesh_size[i] > 0))
+            throw SchemaError(f.name(), b + "/horizon",
+                              fmt::format("body {}: horizon and mesh_size must be positive", i));
+    // Nodes.
+    const std::string nd = path::nodes;
+    m.nodes.volume = get<double>(f, nd + "/volume", {0});
+    const std::uint64_t n = m.nodes.volume.size();
+    m.nodes.x0 = get<double>(f, nd + "/reference_position", {n, 3});
+    m.nodes.body = get<std::int32_t>(f, nd + "/body", {n});
+    require_range<std::int32_t>(f, nd + "/body", m.nodes.body, 0, static_cast<std::int32_t>(nb));
+    for (std::size_t i = 0; i < n; ++i)
+        if (!(m.nodes.volume[i] > 0))
+            throw SchemaError(f.name(), nd + "/volume",
+                              fmt::format("node {} has non-positive volume {}", i,
+                                          m.nodes.volume[i]));
+    if (B.node_offsets.front() != 0 || B.node_offsets.back() != static_cast<std::int64_t>(n) ||
+        !std::is_sorted(B.node_offsets.begin(), B.node_offsets.end()))
+        throw SchemaError(f.name(), b + "/node_offsets",
+                          fmt::format("must rise from 0 to the node count {}", n));
+    // Bonds.
+    const std::string bo = path::bonds;
+    m.bonds.offsets = get<std::int64_t>(f, bo + "/offsets", {n + 1});
+    m.bonds.neighbor = get<std::int32_t>(f, bo + "/neighbor", {0});
+    if (m.bonds.offsets.front() != 0 ||
+        m.bonds.offsets.back() != static_cast<std::int64_t>(m.bonds.neighbor.size()) ||
+        !std::is_sorted(m.bonds.offsets.begin(), m.bonds.offsets.end()))
+        throw SchemaError(f.name(), bo + "/offsets",
+                          fmt::format("must rise from 0 to the bond count {}",
+                                      m.bonds.neighbor.size()));
+    require_range<std::int32_t>(f, bo + "/neighbor", m.bonds.neighbor, 0,
+                                static_cast<std::int32_t>(n));
+    // Contact.
+    const std::string c = path::contact;
+    auto ga = get<std::int32_t>(f, c + "/group_a", {0});
+    const std::uint64_t np = ga.size();
+    auto gb = get<std::int32_t>(f, c + "/group_b", {np});
+    auto rad = get<double>(f, c + "/radius", {np});
+    auto kn = get<double>(f, c + "/stiffness", {np});
+    auto eps = get<double>(f, c + "/restitution", {np});
+    auto mu = get<double>(f, c + "/friction", {np});
+    for (std::size_t k = 0; k < np; ++k)
+        m.contact.push_back({ga[k], gb[k], rad[k], kn[k], eps[k], mu[k]});
+    // Loading and solver.
+    auto g = get<double>(f, std::string(path::loading) + "/gravity", {3});
+    m.loading.gravity = {g[0], g[1], g[2]};
+    const std::string s = path::solver;
+    auto& S = m.solver;
+    S.final_time = get_scalar<double>(f, s + "/final_time");
+    S.dt = get_scalar<double>(f, s + "/dt");
+    S.dt_safety = get_scalar<double>(f, s + "/dt_safety");
+    S.output_interval = get_scalar<double>(f, s + "/output_interval");
+    S.observe_every = get_scalar<std::int64_t>(f, s + "/observe_every");
+    S.contact_skin = get_scalar<double>(f, s + "/contact_skin");
+    const std::string integ = f.attr_string(s, "integrator");
+    if (integ == "velocity_verlet")
+        S.integrator = model::Integrator::velocity_verlet;
+    else if (integ == "symplectic_euler")
+        S.integrator = model::Integrator::symplectic_euler;
+    else
+        throw SchemaError(f.name(), s, "integrator '" + integ + "' unknown");
+    if (!(S.final_time > 0))
+        throw SchemaError(f.name(), s + "/final_time", "must be positive");
+    m.check_consistency();
+    return m;
+}
+
+} // namespace pd::store

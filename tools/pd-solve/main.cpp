@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: MIT
+// pd-solve: explicit peridynamics + contact on a pd-file; frames and observables go into it.
+// Usage: pd-solve FILE.h5 [--steps N] [--force-dt]
+#include "core/tool.hpp"
+#include "pipeline/solve.hpp"
+
+#include <CLI/CLI.hpp>
+
+int main(int argc, char** argv) {
+    pd::pipeline::SolveOptions opt;
+    CLI::App app{"pd-solve: run a pd-file to its final time (velocity Verlet, PMB, contact)"};
+    app.add_option("file", opt.file, "pd-file, updated in place (frames, observables)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    app.add_option("--steps", opt.max_steps, "stop after N steps (short runs)");
+    app.add_flag("--force-dt", opt.force_dt, "accept a scene dt above the stability estimate");
+    app.add_option("--progress-every", opt.progress_seconds, "seconds between progress lines");
+    pd::add_common_flags(app, opt.common);
+    CLI11_PARSE(app, argc, argv);
+    return pd::run_tool("pd-solve", argc, argv, opt.common,
+                        [&](pd::Context& ctx) { pd::pipeline::solve(opt, ctx); });
+}
