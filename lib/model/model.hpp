@@ -88,6 +88,27 @@ struct ContactPair {
     double friction = 0;    ///< Coulomb mu
 };
 
+/// Rigid analytic wall (spec decision 3): costs no nodes. Motion is rigid: translation at a
+/// constant velocity and rotation at a constant angular velocity about `centre` (which itself
+/// translates with the wall). Every wall records the contact force and moment it receives.
+enum class WallShape : std::uint8_t {
+    plane = 0,          ///< half-space boundary: `point` on it, unit `normal` into the free side
+    circle_inside = 1,  ///< grains inside a circle (2D) / sphere (3D) of `radius` about `point`
+    circle_outside = 2, ///< grains outside a circle/sphere (an obstacle)
+};
+
+struct Wall {
+    std::string name;
+    WallShape shape = WallShape::plane;
+    std::int32_t group = 0;                  ///< contact group (row of the contact table)
+    std::array<double, 3> point{0, 0, 0};    ///< m, at t = 0
+    std::array<double, 3> normal{0, 1, 0};   ///< unit, plane only
+    double radius = 0;                       ///< m, circles only
+    std::array<double, 3> velocity{0, 0, 0}; ///< m s-1, translation
+    std::array<double, 3> angular_velocity{0, 0, 0}; ///< rad s-1 (2D: z only)
+    std::array<double, 3> centre{0, 0, 0};   ///< m, rotation centre at t = 0
+};
+
 struct Loading {
     std::array<double, 3> gravity{0, 0, 0}; ///< m s-2
 };
@@ -114,6 +135,7 @@ struct Model {
     Nodes nodes;
     Bonds bonds;
     std::vector<ContactPair> contact;
+    std::vector<Wall> walls;
     Loading loading;
     SolverSettings solver;
     std::string scene_json; ///< the scene as given (comments stripped)

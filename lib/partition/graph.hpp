@@ -29,7 +29,7 @@ std::int64_t edge_cut(const Graph& g, const std::vector<std::int32_t>& part);
 /// Max part weight over mean part weight (1 = perfect balance).
 double imbalance(const Graph& g, const std::vector<std::int32_t>& part, int num_parts);
 
-/// METIS k-way partition (recursive bisection below 8 parts); parts in [0, num_parts).
+/// METIS k-way partition (fixed seed: reproducible); parts in [0, num_parts).
 std::vector<std::int32_t> metis_partition(const Graph& g, int num_parts);
 
 } // namespace pd::partition

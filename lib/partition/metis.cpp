@@ -28,12 +28,8 @@ std::vector<std::int32_t> metis_partition(const Graph& g, int num_parts) {
     options[METIS_OPTION_NUMBERING] = 0;
     idx_t* adj = adjncy.empty() ? nullptr : adjncy.data();
     idx_t* aw = adjwgt.empty() ? nullptr : adjwgt.data();
-    int rc = num_parts < 8 ? METIS_PartGraphRecursive(&nvtxs, &ncon, xadj.data(), adj, vwgt.data(),
-                                                      nullptr, aw, &nparts, nullptr, nullptr,
-                                                      options, &objval, out.data())
-                           : METIS_PartGraphKway(&nvtxs, &ncon, xadj.data(), adj, vwgt.data(),
-                                                 nullptr, aw, &nparts, nullptr, nullptr, options,
-                                                 &objval, out.data());
+    const int rc = METIS_PartGraphKway(&nvtxs, &ncon, xadj.data(), adj, vwgt.data(), nullptr, aw,
+                                       &nparts, nullptr, nullptr, options, &objval, out.data());
     if (rc != METIS_OK)
         throw InternalError(fmt::format("METIS failed with status {}", rc));
     for (std::size_t i = 0; i < part.size(); ++i)

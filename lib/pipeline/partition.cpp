@@ -31,9 +31,7 @@ void partition(const PartitionOptions& opt, Context& ctx) {
     store::Partition p;
     p.by = "body";
     p.num_parts = opt.num_parts;
-    p.method = opt.num_parts == 1 ? "trivial"
-               : opt.num_parts < 8 ? "metis_recursive_bisection"
-                                   : "metis_kway";
+    p.method = opt.num_parts == 1 ? "trivial" : "metis_kway";
     p.owner = partition::metis_partition(g, opt.num_parts);
     p.edge_cut = partition::edge_cut(g, p.owner);
     p.imbalance = partition::imbalance(g, p.owner, opt.num_parts);

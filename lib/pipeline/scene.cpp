@@ -158,7 +158,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
     }
     check_keys(root, "", {"title", "dimension", "planar", "materials", "discretization",
-                          "particles", "contact", "loading", "solver"});
+                          "particles", "walls", "contact", "loading", "solver"});
     model::Model m;
     m.scene_json = root.dump(2);
     m.title = text(root, "", "title", source);
@@ -321,57 +321,161 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     }
     m.bonds = model::build_bonds(m.nodes, B);
 
-    // Contact: one law for every pair of groups present.
+    // Rigid analytic walls.
+    std::int32_t max_group = *std::max_element(B.group.begin(), B.group.end());
+    if (root.contains("walls")) {
+        if (!root["walls"].is_array())
+            throw ConfigError("walls", "expected a list of walls");
+        for (std::size_t k = 0; k < root["walls"].size(); ++k) {
+            const json& wj = root["walls"][k];
+            const std::string w = fmt::format("walls[{}]", k);
+            check_keys(wj, w, {"name", "type", "point", "normal", "center", "radius", "velocity",
+                               "angular_velocity", "rotation_center", "group"});
+            model::Wall wall;
+            wall.name = text(wj, w, "name", fmt::format("wall_{}", k));
+            const auto type = text(wj, w, "type", "plane", {"plane", "circle_inside",
+                                                             "circle_outside"});
+            wall.shape = type == "plane"           ? model::WallShape::plane
+                         : type == "circle_inside" ? model::WallShape::circle_inside
+                                                   : model::WallShape::circle_outside;
+            if (wall.shape == model::WallShape::plane) {
+                wall.point = vec(wj, w, "point", m.dimension, {0, 0, 0}, true);
+                wall.normal = vec(wj, w, "normal", m.dimension, {0, 0, 0}, true);
+                const double nn = std::hypot(wall.normal[0], wall.normal[1], wall.normal[2]);
+                if (!(nn > 0))
+                    throw ConfigError(w + ".normal", "must be a non-zero vector");
+                for (double& c : wall.normal)
+                    c /= nn;
+            } else {
+                wall.point = vec(wj, w, "center", m.dimension, {0, 0, 0}, true);
+                wall.radius = positive(wj, w, "radius", 0, true);
+            }
+            wall.velocity = vec(wj, w, "velocity", m.dimension, {0, 0, 0});
+            if (wj.contains("angular_velocity")) {
+                if (m.dimension == 2)
+                    wall.angular_velocity = {0, 0, number(wj, w, "angular_velocity", 0)};
+                else
+                    wall.angular_velocity = vec(wj, w, "angular_velocity", 3, {0, 0, 0});
+            }
+            wall.centre = vec(wj, w, "rotation_center", m.dimension, wall.point);
+            wall.group = static_cast<std::int32_t>(number(wj, w, "group", -1));
+            m.walls.push_back(wall);
+        }
+        // Walls without a group share one group after the particles'.
+        for (auto& wall : m.walls)
+            if (wall.group < 0)
+                wall.group = max_group + 1;
+        // Grains must start on the free side of every wall.
+        for (std::size_t b = 0; b < B.num(); ++b)
+            for (std::size_t k = 0; k < m.walls.size(); ++k) {
+                const auto& wall = m.walls[k];
+                const double* c = &B.center[3 * b];
+                double d = 0;
+                if (wall.shape == model::WallShape::plane) {
+                    for (int q = 0; q < 3; ++q)
+                        d += (c[q] - wall.point[static_cast<std::size_t>(q)]) *
+                             wall.normal[static_cast<std::size_t>(q)];
+                } else {
+                    const double r = std::hypot(c[0] - wall.point[0], c[1] - wall.point[1],
+                                                c[2] - wall.point[2]);
+                    d = wall.shape == model::WallShape::circle_inside ? wall.radius - r
+                                                                       : r - wall.radius;
+                }
+                if (d < B.bounding_radius[b])
+                    throw ConfigError(fmt::format("particles[{}], walls[{}]", b, k),
+                                      fmt::format("the grain crosses the wall (distance of its "
+                                                  "centre {:.6g} m < its radius {:.6g} m)",
+                                                  d, B.bounding_radius[b]));
+            }
+    }
+
+    // Contact table: a default law for every pair of groups (particles and walls), overridden
+    // per pair of groups under "pairs".
     const json empty = json::object();
     const json& c = root.contains("contact") ? root["contact"] : empty;
-    check_keys(c, "contact", {"radius_factor", "radius", "stiffness", "stiffness_factor",
-                              "restitution", "friction"});
+    const std::vector<std::string> law_keys = {"radius_factor", "radius", "stiffness",
+                                               "stiffness_factor", "restitution", "friction"};
+    auto with = [](std::vector<std::string> v, std::initializer_list<std::string> more) {
+        v.insert(v.end(), more);
+        return v;
+    };
+    check_keys(c, "contact", with(law_keys, {"pairs"}));
     double hmin = *std::min_element(B.mesh_size.begin(), B.mesh_size.end());
-    double rc = c.contains("radius") ? positive(c, "contact", "radius", 0)
-                                     : positive(c, "contact", "radius_factor", 0.95) * hmin;
-    const double eps = number(c, "contact", "restitution", 1.0);
-    if (!(eps > 0 && eps <= 1))
-        throw ConfigError("contact.restitution", "must be in (0, 1]");
-    if (eps < 1)
-        throw ConfigError("contact.restitution",
-                          "damping (restitution < 1) is not implemented yet (issue #4); use 1");
-    const double mu = number(c, "contact", "friction", 0.0);
-    if (mu != 0)
-        throw ConfigError("contact.friction", "friction is not implemented yet (issue #4); use 0");
     std::set<std::int32_t> groups(B.group.begin(), B.group.end());
-    for (auto ga : groups)
-        for (auto gb : groups) {
-            if (gb < ga)
-                continue;
-            model::ContactPair p;
-            p.group_a = ga;
-            p.group_b = gb;
-            p.radius = rc;
-            p.restitution = eps;
-            p.friction = mu;
-            if (c.contains("stiffness") && !c["stiffness"].is_string()) {
-                p.stiffness = positive(c, "contact", "stiffness", 0);
-            } else {
-                text(c, "contact", "stiffness", "auto", {"auto"});
-                // Kn = 18 kappa / (pi delta^(d+2)), kappa the harmonic mean of the bulk moduli of
-                // the materials in the two groups, delta the largest horizon (dimensionally
-                // consistent in 2D and 3D: spec decision 7).
-                double ka = 0, kb = 0, delta = 0;
-                for (std::size_t b = 0; b < B.num(); ++b) {
-                    const double K = m.materials[static_cast<std::size_t>(B.material[b])]
-                                         .bulk_modulus();
-                    if (B.group[b] == ga)
-                        ka = std::max(ka, K);
-                    if (B.group[b] == gb)
-                        kb = std::max(kb, K);
-                    delta = std::max(delta, B.horizon[b]);
-                }
-                const double kappa = 2 * ka * kb / (ka + kb);
-                p.stiffness = 18.0 * kappa / (std::numbers::pi * std::pow(delta, m.dimension + 2)) *
-                              number(c, "contact", "stiffness_factor", 1.0);
-            }
-            m.contact.push_back(p);
+    for (const auto& wall : m.walls)
+        groups.insert(wall.group);
+    auto group_modulus = [&](std::int32_t g) {
+        double k = 0;
+        for (std::size_t b = 0; b < B.num(); ++b)
+            if (B.group[b] == g)
+                k = std::max(k, m.materials[static_cast<std::size_t>(B.material[b])].bulk_modulus());
+        return k; // 0 for a group of rigid walls only
+    };
+    double delta_max = *std::max_element(B.horizon.begin(), B.horizon.end());
+    auto make_law = [&](const json& o, const std::string& w, std::int32_t ga, std::int32_t gb,
+                        const model::ContactPair* base) {
+        model::ContactPair p = base ? *base : model::ContactPair{};
+        p.group_a = ga;
+        p.group_b = gb;
+        if (o.contains("radius"))
+            p.radius = positive(o, w, "radius", 0);
+        else if (o.contains("radius_factor") || !base)
+            p.radius = positive(o, w, "radius_factor", 0.95) * hmin;
+        if (o.contains("restitution") || !base) {
+            p.restitution = number(o, w, "restitution", 1.0);
+            if (!(p.restitution > 0 && p.restitution <= 1))
+                throw ConfigError(w + ".restitution", "must be in (0, 1]");
         }
+        if (o.contains("friction") || !base) {
+            p.friction = number(o, w, "friction", 0.0);
+            if (p.friction < 0)
+                throw ConfigError(w + ".friction", "must be >= 0");
+        }
+        if (o.contains("stiffness") && !o["stiffness"].is_string()) {
+            p.stiffness = positive(o, w, "stiffness", 0);
+        } else if (o.contains("stiffness") || o.contains("stiffness_factor") || !base) {
+            text(o, w, "stiffness", "auto", {"auto"});
+            // Kn = 18 kappa / (pi delta^(d+2)): kappa the harmonic mean of the two groups' bulk
+            // moduli (a rigid wall counts as the grain's own modulus), delta the largest horizon.
+            // Dimensionally consistent in 2D and 3D (spec decision 7).
+            double ka = group_modulus(ga), kb = group_modulus(gb);
+            if (ka == 0)
+                ka = kb;
+            if (kb == 0)
+                kb = ka;
+            const double kappa = ka > 0 ? 2 * ka * kb / (ka + kb) : 0;
+            p.stiffness = 18.0 * kappa /
+                          (std::numbers::pi * std::pow(delta_max, m.dimension + 2)) *
+                          number(o, w, "stiffness_factor", 1.0);
+        }
+        return p;
+    };
+    for (auto ga : groups)
+        for (auto gb : groups)
+            if (gb >= ga)
+                m.contact.push_back(make_law(c, "contact", ga, gb, nullptr));
+    if (c.contains("pairs")) {
+        if (!c["pairs"].is_array())
+            throw ConfigError("contact.pairs", "expected a list");
+        for (std::size_t k = 0; k < c["pairs"].size(); ++k) {
+            const json& pj = c["pairs"][k];
+            const std::string w = fmt::format("contact.pairs[{}]", k);
+            check_keys(pj, w, with(law_keys, {"groups"}));
+            if (!pj.contains("groups") || !pj["groups"].is_array() || pj["groups"].size() != 2)
+                throw ConfigError(w + ".groups", "expected two group numbers");
+            const auto ga = pj["groups"][0].get<std::int32_t>(),
+                       gb = pj["groups"][1].get<std::int32_t>();
+            bool found = false;
+            for (auto& p : m.contact)
+                if ((p.group_a == ga && p.group_b == gb) || (p.group_a == gb && p.group_b == ga)) {
+                    p = make_law(pj, w, p.group_a, p.group_b, &p);
+                    found = true;
+                }
+            if (!found)
+                throw ConfigError(w + ".groups",
+                                  fmt::format("no particle or wall is in group {} or {}", ga, gb));
+        }
+    }
 
     // Loading.
     const json& ld = root.contains("loading") ? root["loading"] : empty;

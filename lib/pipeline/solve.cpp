@@ -33,8 +33,12 @@ void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<do
 }
 
 std::vector<double> observable_row(const solver::Observables& o) {
-    return {o.kinetic_energy, o.elastic_energy, o.momentum[0], o.momentum[1], o.momentum[2],
-            static_cast<double>(o.contact_count), static_cast<double>(o.broken_bonds)};
+    std::vector<double> r{o.kinetic_energy, o.elastic_energy, o.contact_energy, o.momentum[0],
+                          o.momentum[1],    o.momentum[2],    static_cast<double>(o.contact_count),
+                          static_cast<double>(o.broken_bonds)};
+    r.insert(r.end(), o.wall_force.begin(), o.wall_force.end());
+    r.insert(r.end(), o.wall_moment.begin(), o.wall_moment.end());
+    return r;
 }
 
 } // namespace
@@ -88,7 +92,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
     store::FrameWriter frames(*f, m.nodes.num(),
                               {"position", "velocity", "displacement", "force", "damage"});
     store::write_particle_constants(*f, m.nodes.body, mass);
-    store::ObservableWriter obs(*f);
+    store::ObservableWriter obs(*f, s.num_walls());
     std::vector<double> damage, force;
 
     s.initialize();
@@ -102,7 +106,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
         const bool frame = n % out_every == 0 || n == steps;
         if (n % obs_every == 0 || frame) {
             const auto o = s.observe();
-            if (!std::isfinite(o.kinetic_energy) || !std::isfinite(o.elastic_energy)) {
+            if (!std::isfinite(o.kinetic_energy) || !std::isfinite(o.elastic_energy) ||
+                !std::isfinite(o.contact_energy)) {
                 obs.flush();
                 const auto i = s.first_nonfinite();
                 throw NumericalError(fmt::format(

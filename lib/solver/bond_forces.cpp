@@ -20,7 +20,7 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     std::uint8_t* alive = b.alive.data();
     double energy = 0;
     std::int64_t broken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : energy, broken)
+#pragma omp parallel for schedule(static) reduction(+ : energy, broken) if (n > parallel_min)
     for (std::int64_t i = 0; i < n; ++i) {
         double fi[3] = {0, 0, 0};
         if (!s.moving[static_cast<std::size_t>(i)]) {
@@ -71,7 +71,7 @@ BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law) {
 void damage_phi(const State& s, const BondData& b, std::vector<double>& phi) {
     phi.assign(s.n, 0.0);
     const auto n = static_cast<std::int64_t>(s.n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_min)
     for (std::int64_t i = 0; i < n; ++i) {
         double all = 0, br = 0;
         for (offset_t k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {

@@ -23,8 +23,101 @@ ContactList::ContactList(const model::Model& m, double skin)
         law_of_[static_cast<std::size_t>(p.group_a * ngroups_ + p.group_b)] = k;
         law_of_[static_cast<std::size_t>(p.group_b * ngroups_ + p.group_a)] = k;
         rc_max_ = std::max(rc_max_, p.radius);
+        any_friction_ = any_friction_ || p.friction > 0;
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
+}
+
+template <bool Friction>
+std::int64_t ContactList::add_forces_impl(State& s, double dt, double& energy,
+                                          std::vector<BodyPairForce>* normal) const {
+    const auto n = static_cast<std::int64_t>(s.n);
+    std::int64_t touching = 0;
+    double e = 0;
+    std::vector<BodyPairForce> records;
+#pragma omp parallel reduction(+ : touching, e) if (n > parallel_min)
+    {
+        std::vector<BodyPairForce> mine;
+#pragma omp for schedule(static) nowait
+        for (std::int64_t i = 0; i < n; ++i) {
+            const double* xi = &s.x[3 * i];
+            double fi[3] = {0, 0, 0};
+            const auto ii = static_cast<std::size_t>(i);
+            for (auto k = offsets_[ii]; k < offsets_[ii + 1]; ++k) {
+                const index_t j = neighbor_[static_cast<std::size_t>(k)];
+                const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
+                const double d0 = s.x[3 * j] - xi[0], d1 = s.x[3 * j + 1] - xi[1],
+                             d2 = s.x[3 * j + 2] - xi[2];
+                const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
+                if (r2 >= law.radius * law.radius)
+                    continue;
+                const double r = std::sqrt(r2);
+                const double fn = law.stiffness * (law.radius - r) * s.vol[j]; // density, > 0
+                const double a = -fn / r; // along d: pushes i away from j
+                fi[0] += a * d0;
+                fi[1] += a * d1;
+                fi[2] += a * d2;
+                if constexpr (Friction) {
+                    if (law.friction > 0) {
+                        // Coulomb friction on i along the slip of j relative to i, limited so
+                        // that it never reverses the relative slip within one step (stick);
+                        // symmetric in i and j, so momentum is conserved.
+                        const double nx = d0 / r, ny = d1 / r, nz = d2 / r;
+                        double vt[3] = {s.v[3 * j] - s.v[3 * i], s.v[3 * j + 1] - s.v[3 * i + 1],
+                                        s.v[3 * j + 2] - s.v[3 * i + 2]};
+                        const double vn = vt[0] * nx + vt[1] * ny + vt[2] * nz;
+                        vt[0] -= vn * nx;
+                        vt[1] -= vn * ny;
+                        vt[2] -= vn * nz;
+                        const double vtm = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+                        if (vtm > 0) {
+                            const double mi = s.rho[ii] * s.vol[ii];
+                            const double mj = s.rho[static_cast<std::size_t>(j)] * s.vol[j];
+                            const double stop = mi * mj / (mi + mj) * vtm / dt; // N
+                            const double ft =
+                                std::min(law.friction * fn * s.vol[ii], stop) / (s.vol[ii] * vtm);
+                            fi[0] += ft * vt[0];
+                            fi[1] += ft * vt[1];
+                            fi[2] += ft * vt[2];
+                        }
+                    }
+                }
+                e += 0.25 * law.stiffness * (law.radius - r) * (law.radius - r) * s.vol[ii] *
+                     s.vol[j];
+                if (i < j) {
+                    ++touching;
+                    if (normal && law.restitution < 1) {
+                        // force on j's body from i's body: +fn V_i along d/r
+                        const double c = fn * s.vol[ii] / r;
+                        mine.push_back({s.body[ii], s.body[static_cast<std::size_t>(j)],
+                                        static_cast<index_t>(i), j,
+                                        {c * d0, c * d1, c * d2}});
+                    }
+                }
+            }
+            s.f[3 * i] += fi[0];
+            s.f[3 * i + 1] += fi[1];
+            s.f[3 * i + 2] += fi[2];
+        }
+        if (normal) {
+#pragma omp critical(pd_contact_records)
+            records.insert(records.end(), mine.begin(), mine.end());
+        }
+    }
+    energy = e;
+    if (normal) {
+        std::sort(records.begin(), records.end(), [](const auto& p, const auto& q) {
+            return p.i != q.i ? p.i < q.i : p.j < q.j;
+        });
+        for (auto& r : records)
+            if (r.a > r.b) { // normalise to a < b: force on the higher-numbered body
+                std::swap(r.a, r.b);
+                for (double& c : r.force)
+                    c = -c;
+            }
+        *normal = std::move(records);
+    }
+    return touching;
 }
 
 bool ContactList::update(const State& s) {
@@ -34,7 +127,7 @@ bool ContactList::update(const State& s) {
         const double lim = 0.25 * skin_ * skin_; // (skin/2)^2
         bool far = false;
         const auto n = static_cast<std::int64_t>(s.n);
-#pragma omp parallel for schedule(static) reduction(|| : far)
+#pragma omp parallel for schedule(static) reduction(|| : far) if (n > parallel_min)
         for (std::int64_t i = 0; i < n; ++i) {
             double d2 = 0;
             for (int d = 0; d < 3; ++d) {
@@ -128,7 +221,7 @@ void ContactList::rebuild(const State& s) {
     std::vector<std::vector<std::int32_t>> laws(s.n);
     const double r2max = reach * reach;
     const auto na = static_cast<std::int64_t>(active_nodes.size());
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (na > parallel_min)
     for (std::int64_t a = 0; a < na; ++a) {
         const index_t i = active_nodes[static_cast<std::size_t>(a)];
         const double* xi = &s.x[3 * i];
@@ -176,36 +269,14 @@ void ContactList::rebuild(const State& s) {
     }
 }
 
-std::int64_t ContactList::add_forces(State& s) const {
+std::int64_t ContactList::add_forces(State& s, double dt, double& energy,
+                                     std::vector<BodyPairForce>* normal) const {
+    energy = 0;
     if (!active_ || !built_)
         return 0;
-    const auto n = static_cast<std::int64_t>(s.n);
-    std::int64_t touching = 0;
-#pragma omp parallel for schedule(static) reduction(+ : touching)
-    for (std::int64_t i = 0; i < n; ++i) {
-        const double* xi = &s.x[3 * i];
-        double fi[3] = {0, 0, 0};
-        for (auto k = offsets_[i]; k < offsets_[i + 1]; ++k) {
-            const index_t j = neighbor_[static_cast<std::size_t>(k)];
-            const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
-            const double d0 = s.x[3 * j] - xi[0], d1 = s.x[3 * j + 1] - xi[1],
-                         d2 = s.x[3 * j + 2] - xi[2];
-            const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
-            if (r2 >= law.radius * law.radius)
-                continue;
-            const double r = std::sqrt(r2);
-            const double a = law.stiffness * (r - law.radius) * s.vol[j] / r;
-            fi[0] += a * d0;
-            fi[1] += a * d1;
-            fi[2] += a * d2;
-            if (i < j)
-                ++touching;
-        }
-        s.f[3 * i] += fi[0];
-        s.f[3 * i + 1] += fi[1];
-        s.f[3 * i + 2] += fi[2];
-    }
-    return touching;
+    if (any_friction_)
+        return add_forces_impl<true>(s, dt, energy, normal);
+    return add_forces_impl<false>(s, dt, energy, normal);
 }
 
 } // namespace pd::solver

@@ -12,6 +12,14 @@
 
 namespace pd::solver {
 
+/// Normal contact force between two bodies through one node pair (for damping): the force on
+/// body `b` from body `a` (a < b), N.
+struct BodyPairForce {
+    std::int32_t a, b;
+    index_t i, j;
+    double force[3];
+};
+
 class ContactList {
   public:
     /// `skin` > 0. Bodies in groups with no contact law never interact.
@@ -23,13 +31,21 @@ class ContactList {
 
     /// Rebuilds the candidate list if needed; returns true if it did.
     bool update(const State& s);
-    /// Adds contact force densities to s.f; returns the number of node pairs in contact.
-    std::int64_t add_forces(State& s) const;
+    /// Adds contact (and Coulomb friction) force densities to s.f; returns the number of node
+    /// pairs in contact and their spring energy sum 1/2 Kn (R_c - R)^2 V_i V_j (J). With `normal`,
+    /// also lists the normal force of every touching pair (sorted, for grain-level damping).
+    std::int64_t add_forces(State& s, double dt, double& energy,
+                            std::vector<BodyPairForce>* normal) const;
+    const std::vector<model::ContactPair>& laws() const { return laws_; }
+    bool any_friction() const { return any_friction_; }
     std::int64_t rebuilds() const { return rebuilds_; }
     std::size_t num_candidates() const { return neighbor_.size(); }
 
   private:
     void rebuild(const State& s);
+    template <bool Friction>
+    std::int64_t add_forces_impl(State& s, double dt, double& energy,
+                                 std::vector<BodyPairForce>* normal) const;
 
     bool active_ = false;
     double skin_ = 0;
@@ -45,6 +61,7 @@ class ContactList {
     std::vector<std::int32_t> law_;
     std::vector<double> x_build_;
     bool built_ = false;
+    bool any_friction_ = false;
     std::int64_t rebuilds_ = 0;
 };
 

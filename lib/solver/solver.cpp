@@ -6,6 +6,7 @@
 #include "solver/bond_forces.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -65,10 +66,18 @@ Solver::Solver(const model::Model& m) : m_(m) {
         rc = std::max(rc, p.radius);
     const double skin = m.solver.contact_skin > 0 ? m.solver.contact_skin : rc;
     contact_ = std::make_unique<ContactList>(m, skin > 0 ? skin : 1.0);
+    walls_ = std::make_unique<WallContact>(m, skin > 0 ? skin : 1.0);
+    for (const auto& p : m.contact)
+        damping_ = damping_ || (p.restitution < 1 && p.stiffness > 0);
+    body_mass_.assign(nb, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+        body_mass_[static_cast<std::size_t>(s_.body[i])] += s_.rho[i] * s_.vol[i];
     t_bonds_ = timers_.id("pd::solver::bond_forces");
     t_search_ = timers_.id("pd::solver::contact_search");
     t_contact_ = timers_.id("pd::solver::contact_forces");
     t_integrate_ = timers_.id("pd::solver::integrate");
+    t_walls_ = timers_.id("pd::solver::wall_contact");
+    t_damping_ = timers_.id("pd::solver::damping");
 }
 
 StableDt Solver::stable_dt() const {
@@ -88,15 +97,9 @@ StableDt Solver::stable_dt() const {
         if (k > 0)
             r.pd = std::min(r.pd, std::sqrt(2.0 * s_.rho[i] / k));
     }
-    if (contact_->active()) {
+    if (contact_->active() || walls_->active()) {
         // Worst case: a node pressed into a neighbour body whose nodes fill a contact disc
         // (sphere in 3D) of radius R_c at the densest nodal spacing of the scene.
-        double vmin_density = 0; // max volume fraction per node area: V_i / h_i^d
-        for (std::size_t b = 0; b < m_.bodies.num(); ++b)
-            for (auto i = m_.bodies.begin(b); i < m_.bodies.end(b); ++i)
-                vmin_density = std::max(vmin_density, s_.vol[static_cast<std::size_t>(i)] /
-                                                          std::pow(m_.bodies.mesh_size[b],
-                                                                   m_.dimension));
         for (const auto& p : m_.contact) {
             if (p.stiffness <= 0 || p.radius <= 0)
                 continue;
@@ -105,7 +108,8 @@ StableDt Solver::stable_dt() const {
             double hmin = std::numeric_limits<double>::infinity();
             for (double h : m_.bodies.mesh_size)
                 hmin = std::min(hmin, h);
-            // Node count within R_c (at least 1) times the largest nodal volume.
+            // Node count within R_c (at least 1; a wall acts as one mirror node) times the
+            // largest nodal volume.
             const double nodes_in = std::max(1.0, reach / std::pow(hmin, m_.dimension));
             double vmax = 0, rho_min = std::numeric_limits<double>::infinity();
             for (std::size_t i = 0; i < s_.n; ++i) {
@@ -115,7 +119,6 @@ StableDt Solver::stable_dt() const {
             const double sumv = nodes_in * vmax;
             r.contact = std::min(r.contact, std::sqrt(2.0 * rho_min / (p.stiffness * sumv)));
         }
-        (void)vmin_density;
     }
     r.limit = std::min(r.pd, r.contact);
     r.governing = r.contact < r.pd ? "contact stiffness" : "peridynamic bonds";
@@ -135,14 +138,149 @@ void Solver::compute_forces() {
             contact_->update(s_);
         }
         ScopedTimer t(timers_, t_contact_);
-        contact_count_ = contact_->add_forces(s_);
+        contact_count_ = contact_->add_forces(s_, dt_, contact_energy_,
+                                              damping_ ? &pair_records_ : nullptr);
+    } else {
+        contact_count_ = 0;
+        contact_energy_ = 0;
+        pair_records_.clear();
+    }
+    if (walls_->active()) {
+        ScopedTimer t(timers_, t_walls_);
+        walls_->update(s_);
+        walls_->add_forces(s_, dt_, wall_load_, damping_ ? &wall_records_ : nullptr);
+        contact_count_ += wall_load_.touching;
+        contact_energy_ += wall_load_.energy;
+    } else {
+        wall_load_.force.assign(3 * walls_->num_walls(), 0.0);
+        wall_load_.moment.assign(3 * walls_->num_walls(), 0.0);
+    }
+    if (damping_) {
+        ScopedTimer t(timers_, t_damping_);
+        apply_damping(pair_records_, wall_records_);
     }
     if (g_[0] != 0 || g_[1] != 0 || g_[2] != 0) {
         const auto n = static_cast<std::int64_t>(s_.n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_min)
         for (std::int64_t i = 0; i < n; ++i)
             for (int d = 0; d < 3; ++d)
                 s_.f[3 * i + d] += s_.rho[static_cast<std::size_t>(i)] * g_[d];
+    }
+}
+
+void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
+                           const std::vector<BodyWallForce>& walls) {
+    // Grain-level hysteretic damping with true grain masses (spec decision 6). For each pair of
+    // grains (or grain and wall) in contact, F = their total normal contact force and v_n the
+    // relative normal velocity of their centres of mass. While the contact unloads (v_n > 0, the
+    // grains separate) each grain receives -(1 - eps^2) F as a uniform acceleration: the contact
+    // returns eps^2 of the energy it stored, so the rebound speed is eps times the impact speed
+    // whatever the non-linearity of the node-level contact and the grains' deformation (Walton &
+    // Braun 1986 loading/unloading idea, at grain level). Momentum is conserved; a wall's
+    // reaction includes the reduction. No per-contact history is needed.
+    using Key = std::pair<std::int32_t, std::int32_t>;
+    std::map<Key, std::array<double, 3>> force;
+    for (const auto& r : pairs) {
+        auto& F = force[{r.a, r.b}];
+        for (int d = 0; d < 3; ++d)
+            F[static_cast<std::size_t>(d)] += r.force[d];
+    }
+    for (const auto& r : walls) {
+        auto& F = force[{r.body, -1 - r.wall}];
+        for (int d = 0; d < 3; ++d)
+            F[static_cast<std::size_t>(d)] += r.force[d];
+    }
+    std::map<std::int32_t, std::array<double, 6>> com; // velocity, position of involved bodies
+    auto com_of = [&](std::int32_t b) -> const std::array<double, 6>& {
+        auto it = com.find(b);
+        if (it != com.end())
+            return it->second;
+        std::array<double, 6> c{};
+        const auto bb = static_cast<std::size_t>(b);
+        for (auto i = m_.bodies.begin(bb); i < m_.bodies.end(bb); ++i) {
+            const auto ii = static_cast<std::size_t>(i);
+            const double mi = s_.rho[ii] * s_.vol[ii];
+            for (std::size_t d = 0; d < 3; ++d) {
+                c[d] += mi * s_.v[3 * ii + d];
+                c[3 + d] += mi * s_.x[3 * ii + d];
+            }
+        }
+        for (double& x : c)
+            x /= body_mass_[bb];
+        return com.emplace(b, c).first->second;
+    };
+    std::map<std::int32_t, std::array<double, 3>> accel;
+    for (const auto& [key, F] : force) {
+        const double fm = std::sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]);
+        if (!(fm > 0))
+            continue;
+        const double n[3] = {F[0] / fm, F[1] / fm, F[2] / fm};
+        const bool wall = key.second < 0;
+        const auto a = key.first;
+        const auto& ca = com_of(a);
+        double vrel[3];
+        const model::ContactPair* law = nullptr;
+        const auto ga = m_.bodies.group[static_cast<std::size_t>(a)];
+        if (wall) {
+            const auto& w = m_.walls[static_cast<std::size_t>(-1 - key.second)];
+            law = m_.contact_between(ga, w.group);
+            const auto p = wall_pose(w, s_.time);
+            const double r[3] = {ca[3] - p.centre[0], ca[4] - p.centre[1], ca[5] - p.centre[2]};
+            const double vw[3] = {p.velocity[0] + p.omega[1] * r[2] - p.omega[2] * r[1],
+                                  p.velocity[1] + p.omega[2] * r[0] - p.omega[0] * r[2],
+                                  p.velocity[2] + p.omega[0] * r[1] - p.omega[1] * r[0]};
+            for (int d = 0; d < 3; ++d)
+                vrel[d] = ca[static_cast<std::size_t>(d)] - vw[d]; // grain relative to wall
+        } else {
+            const auto b = key.second;
+            law = m_.contact_between(ga, m_.bodies.group[static_cast<std::size_t>(b)]);
+            const auto& cb = com_of(b);
+            for (std::size_t d = 0; d < 3; ++d)
+                vrel[d] = cb[d] - ca[d]; // b relative to a; n points from a to b
+        }
+        if (!law || law->restitution >= 1)
+            continue;
+        const double vn = vrel[0] * n[0] + vrel[1] * n[1] + vrel[2] * n[2];
+        if (!(vn > 0))
+            continue; // loading (approach): no damping
+        // Unloading: the grains get back only eps^2 of their normal contact force.
+        const double scale = 1.0 - law->restitution * law->restitution;
+        // Damping force on b (or on the grain, for a wall): -(1 - eps^2) F, F the contact force
+        // on it.
+        const double Fd[3] = {-scale * F[0], -scale * F[1], -scale * F[2]};
+        if (wall) {
+            const auto w = static_cast<std::size_t>(-1 - key.second);
+            for (std::size_t d = 0; d < 3; ++d)
+                wall_load_.force[3 * w + d] -= Fd[d]; // the wall feels the reduced push too
+            const auto p = wall_pose(m_.walls[w], s_.time);
+            const double r[3] = {ca[3] - p.centre[0], ca[4] - p.centre[1], ca[5] - p.centre[2]};
+            wall_load_.moment[3 * w + 0] -= r[1] * Fd[2] - r[2] * Fd[1];
+            wall_load_.moment[3 * w + 1] -= r[2] * Fd[0] - r[0] * Fd[2];
+            wall_load_.moment[3 * w + 2] -= r[0] * Fd[1] - r[1] * Fd[0];
+        }
+        if (wall) {
+            auto& acc = accel[a];
+            for (int d = 0; d < 3; ++d)
+                acc[static_cast<std::size_t>(d)] += Fd[d] / body_mass_[static_cast<std::size_t>(a)];
+        } else {
+            const auto b = key.second;
+            auto& acb = accel[b];
+            auto& aca = accel[a];
+            for (int d = 0; d < 3; ++d) {
+                acb[static_cast<std::size_t>(d)] += Fd[d] / body_mass_[static_cast<std::size_t>(b)];
+                aca[static_cast<std::size_t>(d)] -= Fd[d] / body_mass_[static_cast<std::size_t>(a)];
+            }
+        }
+    }
+    for (const auto& [b, acc] : accel) {
+        if (m_.bodies.fixed[static_cast<std::size_t>(b)])
+            continue;
+        for (auto i = m_.bodies.begin(static_cast<std::size_t>(b));
+             i < m_.bodies.end(static_cast<std::size_t>(b)); ++i) {
+            const auto ii = static_cast<std::size_t>(i);
+            for (std::size_t d = 0; d < 3; ++d)
+                s_.f[3 * ii + d] += s_.rho[ii] * acc[d];
+        }
     }
 }
 
@@ -165,7 +303,7 @@ void Solver::advance() {
     const double kick = verlet ? 0.5 * dt : dt;
     {
         ScopedTimer t(timers_, t_integrate_);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_min)
         for (std::int64_t i = 0; i < n; ++i) {
             if (!s_.moving[static_cast<std::size_t>(i)])
                 continue;
@@ -183,7 +321,7 @@ void Solver::advance() {
     compute_forces();
     if (verlet) {
         ScopedTimer t(timers_, t_integrate_);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_min)
         for (std::int64_t i = 0; i < n; ++i) {
             if (!s_.moving[static_cast<std::size_t>(i)])
                 continue;
@@ -200,7 +338,7 @@ Observables Solver::observe() const {
     Observables o;
     double ke = 0, p0 = 0, p1 = 0, p2 = 0;
     const auto n = static_cast<std::int64_t>(s_.n);
-#pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2)
+#pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2) if (n > parallel_min)
     for (std::int64_t i = 0; i < n; ++i) {
         const double mass = s_.rho[static_cast<std::size_t>(i)] * s_.vol[static_cast<std::size_t>(i)];
         const double* v = &s_.v[3 * i];
@@ -214,7 +352,10 @@ Observables Solver::observe() const {
     o.momentum[1] = p1;
     o.momentum[2] = p2;
     o.elastic_energy = elastic_energy_;
+    o.contact_energy = contact_energy_;
     o.contact_count = contact_count_;
+    o.wall_force = wall_load_.force;
+    o.wall_moment = wall_load_.moment;
     o.broken_bonds = broken_total_ / 2;
     return o;
 }

@@ -7,9 +7,12 @@
 #include "model/model.hpp"
 #include "solver/contact.hpp"
 #include "solver/state.hpp"
+#include "solver/walls.hpp"
 
+#include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace pd::solver {
 
@@ -24,10 +27,13 @@ struct StableDt {
 /// Quantities observed after a step (2D: per unit thickness).
 struct Observables {
     double kinetic_energy = 0;    ///< J
-    double elastic_energy = 0;    ///< J
+    double elastic_energy = 0;    ///< J, intact bonds
+    double contact_energy = 0;    ///< J, contact springs
     double momentum[3] = {0, 0, 0}; ///< kg m s-1
-    std::int64_t contact_count = 0; ///< node pairs closer than R_c
+    std::int64_t contact_count = 0; ///< node pairs (and node-wall pairs) closer than R_c
     std::int64_t broken_bonds = 0;  ///< broken bonds (pairs)
+    std::vector<double> wall_force;  ///< 3 per wall, N, received by the wall
+    std::vector<double> wall_moment; ///< 3 per wall, N m, about its rotation centre
 };
 
 class Solver {
@@ -56,23 +62,34 @@ class Solver {
     std::int64_t first_nonfinite() const;
     Timers& timers() { return timers_; }
     const ContactList& contact() const { return *contact_; }
+    const WallContact& walls() const { return *walls_; }
+    std::size_t num_walls() const { return walls_->num_walls(); }
     std::int64_t broken_total() const { return broken_total_; }
 
   private:
     void compute_forces();
+    void apply_damping(const std::vector<BodyPairForce>& pairs,
+                       const std::vector<BodyWallForce>& walls);
 
     const model::Model& m_;
     State s_;
     BondData b_;
     BodyLaw law_;
     std::unique_ptr<ContactList> contact_;
+    std::unique_ptr<WallContact> walls_;
+    WallLoad wall_load_;
+    bool damping_ = false; ///< some contact law has restitution < 1
+    std::vector<double> body_mass_;
+    std::vector<BodyPairForce> pair_records_;
+    std::vector<BodyWallForce> wall_records_;
     double dt_ = 0;
     double g_[3] = {0, 0, 0};
     double elastic_energy_ = 0;
+    double contact_energy_ = 0;
     std::int64_t contact_count_ = 0;
     std::int64_t broken_total_ = 0; ///< from both ends
     Timers timers_;
-    int t_bonds_, t_contact_, t_search_, t_integrate_;
+    int t_bonds_, t_contact_, t_search_, t_integrate_, t_walls_, t_damping_;
 };
 
 } // namespace pd::solver

@@ -14,6 +14,10 @@ namespace pd::solver {
 using model::index_t;
 using model::offset_t;
 
+/// Loops over fewer items than this run on one thread: a parallel region costs microseconds,
+/// more than a small grain's whole step.
+inline constexpr std::int64_t parallel_min = 4096;
+
 struct State {
     std::size_t n = 0;
     std::vector<double> x0;  ///< reference position (3n), m

@@ -28,6 +28,7 @@ const std::vector<FieldInfo>& frame_fields() {
 const std::vector<ObservableInfo>& observable_list() {
     static const std::vector<ObservableInfo> o{{"kinetic_energy", 1, "J"},
                                                {"elastic_energy", 1, "J"},
+                                               {"contact_energy", 1, "J"},
                                                {"momentum", 3, "kg m s-1"},
                                                {"contact_count", 1, "1"},
                                                {"broken_bonds", 1, "1"}};
@@ -147,7 +148,8 @@ std::vector<double> FrameReader::read(const std::string& field, std::size_t k) c
     return v;
 }
 
-ObservableWriter::ObservableWriter(h5::File& f) : f_(f) {}
+ObservableWriter::ObservableWriter(h5::File& f, std::size_t num_walls)
+    : f_(f), walls_(num_walls) {}
 
 void ObservableWriter::add(std::int64_t step, double time, std::span<const double> values) {
     steps_.push_back(step);
@@ -156,20 +158,31 @@ void ObservableWriter::add(std::int64_t step, double time, std::span<const doubl
 }
 
 void ObservableWriter::flush() {
-    const auto& list = observable_list();
-    const std::string first = O + "/" + list.front().name;
+    // Series: the standard list, then the wall series (each 3 * walls_ values per row).
+    struct Col {
+        std::string name;
+        h5::dims_t inner;
+        std::string unit;
+        std::size_t width;
+    };
+    std::vector<Col> cols;
+    for (const auto& o : observable_list())
+        cols.push_back({o.name, o.components == 3 ? h5::dims_t{3} : h5::dims_t{}, o.unit,
+                        static_cast<std::size_t>(o.components)});
+    if (walls_ > 0) {
+        cols.push_back({"wall_force", {walls_, 3}, "N", 3 * walls_});
+        cols.push_back({"wall_moment", {walls_, 3}, "N m", 3 * walls_});
+    }
+    const std::string first = O + "/" + cols.front().name;
     if (!f_.exists(first + "/value")) {
         f_.create_extendible<std::int64_t>(first + "/step", {}, 4096);
         f_.create_extendible<double>(first + "/time", {}, 4096);
         f_.set_attr(first + "/step", "unit", "1");
         f_.set_attr(first + "/time", "unit", "s");
-        for (const auto& o : list) {
-            const std::string g = O + "/" + o.name;
-            h5::dims_t inner;
-            if (o.components == 3)
-                inner.push_back(3);
-            f_.create_extendible<double>(g + "/value", inner, 4096);
-            f_.set_attr(g + "/value", "unit", o.unit);
+        for (const auto& c : cols) {
+            const std::string g = O + "/" + c.name;
+            f_.create_extendible<double>(g + "/value", c.inner, 4096);
+            f_.set_attr(g + "/value", "unit", c.unit);
             if (g != first) {
                 f_.hard_link(first + "/step", g + "/step");
                 f_.hard_link(first + "/time", g + "/time");
@@ -180,17 +193,19 @@ void ObservableWriter::flush() {
     if (rows == 0)
         return;
     std::size_t width = 0;
-    for (const auto& o : list)
-        width += static_cast<std::size_t>(o.components);
+    for (const auto& c : cols)
+        width += c.width;
+    if (values_.size() != rows * width)
+        throw InternalError("observable rows have the wrong width");
     std::size_t col = 0;
-    for (const auto& o : list) {
+    for (const auto& c : cols) {
         std::vector<double> v;
-        v.reserve(rows * static_cast<std::size_t>(o.components));
+        v.reserve(rows * c.width);
         for (std::size_t r = 0; r < rows; ++r)
-            for (int c = 0; c < o.components; ++c)
-                v.push_back(values_[r * width + col + static_cast<std::size_t>(c)]);
-        f_.append<double>(O + "/" + o.name + "/value", v, rows);
-        col += static_cast<std::size_t>(o.components);
+            for (std::size_t k = 0; k < c.width; ++k)
+                v.push_back(values_[r * width + col + k]);
+        f_.append<double>(O + "/" + c.name + "/value", v, rows);
+        col += c.width;
     }
     f_.append<std::int64_t>(first + "/step", steps_, rows);
     f_.append<double>(first + "/time", times_, rows);
@@ -211,7 +226,9 @@ std::map<std::string, Series> read_observables(const h5::File& f) {
         Series s;
         h5::dims_t d;
         s.value = f.read<double>(g + "/value", &d);
-        s.components = d.size() == 2 ? static_cast<int>(d[1]) : 1;
+        s.components = 1;
+        for (std::size_t k = 1; k < d.size(); ++k)
+            s.components *= static_cast<int>(d[k]);
         s.step = f.read<std::int64_t>(g + "/step");
         s.time = f.read<double>(g + "/time");
         s.unit = f.has_attr(g + "/value", "unit") ? f.attr_string(g + "/value", "unit") : "";
@@ -244,6 +261,8 @@ void truncate_after(h5::File& f, std::int64_t step) {
     std::vector<std::string> ov;
     for (const auto& o : observable_list())
         ov.push_back(O + "/" + o.name + "/value");
+    ov.push_back(O + "/wall_force/value");
+    ov.push_back(O + "/wall_moment/value");
     cut(O + "/" + observable_list().front().name, ov);
 }
 

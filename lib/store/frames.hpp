@@ -84,17 +84,20 @@ struct ObservableInfo {
 };
 const std::vector<ObservableInfo>& observable_list();
 
-/// Buffers observable rows in memory and appends them to /observables on flush().
+/// Buffers observable rows in memory and appends them to /observables on flush(). With walls,
+/// also `wall_force` and `wall_moment`, value (rows, num_walls, 3) in N and N m.
 class ObservableWriter {
   public:
-    explicit ObservableWriter(h5::File& f);
-    /// Adds one row; `values` holds, for each entry of observable_list() in order, its components.
+    explicit ObservableWriter(h5::File& f, std::size_t num_walls = 0);
+    /// Adds one row; `values` holds, for each entry of observable_list() in order, its
+    /// components, then 3 * num_walls wall forces, then 3 * num_walls wall moments.
     void add(std::int64_t step, double time, std::span<const double> values);
     void flush();
     std::size_t buffered() const { return steps_.size(); }
 
   private:
     h5::File& f_;
+    std::size_t walls_;
     std::vector<std::int64_t> steps_;
     std::vector<double> times_;
     std::vector<double> values_;

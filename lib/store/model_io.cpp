@@ -174,6 +174,37 @@ void write_model(h5::File& f, const model::Model& m) {
     put(f, c + "/stiffness", kn, {np}, "N m-7");
     put(f, c + "/restitution", eps, {np}, "1");
     put(f, c + "/friction", mu, {np}, "1");
+    // Rigid walls (optional group).
+    f.remove(path::walls);
+    if (!m.walls.empty()) {
+        const std::string w = path::walls;
+        const std::uint64_t nw = m.walls.size();
+        std::vector<std::uint8_t> shape;
+        std::vector<std::int32_t> group;
+        std::vector<double> point, normal, radius, vel, omega, centre;
+        std::vector<std::string> names;
+        for (const auto& x : m.walls) {
+            names.push_back(x.name);
+            shape.push_back(static_cast<std::uint8_t>(x.shape));
+            group.push_back(x.group);
+            point.insert(point.end(), x.point.begin(), x.point.end());
+            normal.insert(normal.end(), x.normal.begin(), x.normal.end());
+            radius.push_back(x.radius);
+            vel.insert(vel.end(), x.velocity.begin(), x.velocity.end());
+            omega.insert(omega.end(), x.angular_velocity.begin(), x.angular_velocity.end());
+            centre.insert(centre.end(), x.centre.begin(), x.centre.end());
+        }
+        f.create_group(w);
+        f.set_attr(w, "names", names);
+        put(f, w + "/shape", shape, {nw}, "1");
+        put(f, w + "/group", group, {nw}, "1");
+        put(f, w + "/point", point, {nw, 3}, "m");
+        put(f, w + "/normal", normal, {nw, 3}, "1");
+        put(f, w + "/radius", radius, {nw}, "m");
+        put(f, w + "/velocity", vel, {nw, 3}, "m s-1");
+        put(f, w + "/angular_velocity", omega, {nw, 3}, "rad s-1");
+        put(f, w + "/centre", centre, {nw, 3}, "m");
+    }
     // Loading and solver settings.
     put(f, std::string(path::loading) + "/gravity",
         std::vector<double>(m.loading.gravity.begin(), m.loading.gravity.end()), {3}, "m s-2");
@@ -304,6 +335,43 @@ model::Model read_model(const h5::File& f) {
     auto mu = get<double>(f, c + "/friction", {np});
     for (std::size_t k = 0; k < np; ++k)
         m.contact.push_back({ga[k], gb[k], rad[k], kn[k], eps[k], mu[k]});
+    // Rigid walls.
+    if (f.exists(path::walls)) {
+        const std::string w = path::walls;
+        auto shape = get<std::uint8_t>(f, w + "/shape", {0});
+        const std::uint64_t nw = shape.size();
+        auto group = get<std::int32_t>(f, w + "/group", {nw});
+        auto point = get<double>(f, w + "/point", {nw, 3});
+        auto normal = get<double>(f, w + "/normal", {nw, 3});
+        auto radius = get<double>(f, w + "/radius", {nw});
+        auto vel = get<double>(f, w + "/velocity", {nw, 3});
+        auto omega = get<double>(f, w + "/angular_velocity", {nw, 3});
+        auto centre = get<double>(f, w + "/centre", {nw, 3});
+        require_range<std::uint8_t>(f, w + "/shape", shape, 0, 3);
+        for (std::size_t k = 0; k < nw; ++k) {
+            model::Wall x;
+            x.name = fmt::format("wall_{}", k);
+            x.shape = static_cast<model::WallShape>(shape[k]);
+            x.group = group[k];
+            for (std::size_t d = 0; d < 3; ++d) {
+                x.point[d] = point[3 * k + d];
+                x.normal[d] = normal[3 * k + d];
+                x.velocity[d] = vel[3 * k + d];
+                x.angular_velocity[d] = omega[3 * k + d];
+                x.centre[d] = centre[3 * k + d];
+            }
+            x.radius = radius[k];
+            const double nn = std::sqrt(x.normal[0] * x.normal[0] + x.normal[1] * x.normal[1] +
+                                        x.normal[2] * x.normal[2]);
+            if (x.shape == model::WallShape::plane && std::abs(nn - 1) > 1e-9)
+                throw SchemaError(f.name(), w + "/normal",
+                                  fmt::format("wall {}: normal must be a unit vector", k));
+            if (x.shape != model::WallShape::plane && !(x.radius > 0))
+                throw SchemaError(f.name(), w + "/radius",
+                                  fmt::format("wall {}: radius must be positive", k));
+            m.walls.push_back(x);
+        }
+    }
     // Loading and solver.
     auto g = get<double>(f, std::string(path::loading) + "/gravity", {3});
     m.loading.gravity = {g[0], g[1], g[2]};

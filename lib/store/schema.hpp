@@ -28,6 +28,7 @@ inline constexpr const char* bodies = "/bodies";
 inline constexpr const char* nodes = "/nodes";
 inline constexpr const char* bonds = "/bonds";
 inline constexpr const char* contact = "/contact";
+inline constexpr const char* walls = "/walls";
 inline constexpr const char* loading = "/loading";
 inline constexpr const char* solver = "/solver";
 inline constexpr const char* partition = "/partition";

@@ -90,7 +90,7 @@ TEST(Dynamics, HeadOnCollisionConservesMomentumAndEnergy) {
     s.initialize();
     const auto o0 = s.observe();
     const double p1 = 0.5 * 1200 * M_PI * 1e-6; // |p| of one disc (exact-area estimate)
-    double max_dp = 0, min_gap_energy = o0.kinetic_energy;
+    double max_dp = 0, min_gap_energy = o0.kinetic_energy, max_drift = 0;
     std::int64_t touched = 0;
     for (int k = 0; k < 1500; ++k) {
         s.advance();
@@ -98,6 +98,8 @@ TEST(Dynamics, HeadOnCollisionConservesMomentumAndEnergy) {
         max_dp = std::max({max_dp, std::abs(o.momentum[0]), std::abs(o.momentum[1])});
         touched = std::max(touched, o.contact_count);
         min_gap_energy = std::min(min_gap_energy, o.kinetic_energy);
+        const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+        max_drift = std::max(max_drift, std::abs(e / o0.kinetic_energy - 1));
     }
     const auto o1 = s.observe();
     EXPECT_GT(touched, 0);
@@ -106,6 +108,7 @@ TEST(Dynamics, HeadOnCollisionConservesMomentumAndEnergy) {
     EXPECT_LT(min_gap_energy, 0.5 * o0.kinetic_energy);      // a real collision happened
     const double e1 = o1.kinetic_energy + o1.elastic_energy; // no contact energy left
     EXPECT_NEAR(e1 / o0.kinetic_energy, 1.0, 1e-3);          // elastic: energy conserved
+    EXPECT_LT(max_drift, 2e-3); // total energy (with contact springs) throughout the collision
 }
 
 TEST(Dynamics, StableDtShrinksWithStiffness) {

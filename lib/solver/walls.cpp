@@ -1,0 +1,268 @@
+// SPDX-License-Identifier: MIT
+#include "solver/walls.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pd::solver {
+
+namespace {
+
+using V3 = std::array<double, 3>;
+
+/// Rotation of v by the rotation vector theta (Rodrigues).
+V3 rotate(const V3& v, const V3& theta) {
+    const double a = std::sqrt(theta[0] * theta[0] + theta[1] * theta[1] + theta[2] * theta[2]);
+    if (a == 0)
+        return v;
+    const V3 k{theta[0] / a, theta[1] / a, theta[2] / a};
+    const double c = std::cos(a), s = std::sin(a);
+    const double kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+    const V3 kxv{k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]};
+    V3 r;
+    for (int d = 0; d < 3; ++d)
+        r[d] = v[d] * c + kxv[d] * s + k[d] * kv * (1 - c);
+    return r;
+}
+
+/// Signed distance of x from the wall (positive on the free side) and the unit normal into
+/// the free side at the closest point.
+double distance(const model::Wall& w, const WallPose& p, const double* x, double n[3]) {
+    if (w.shape == model::WallShape::plane) {
+        double d = 0;
+        for (int k = 0; k < 3; ++k) {
+            n[k] = p.normal[k];
+            d += (x[k] - p.point[k]) * n[k];
+        }
+        return d;
+    }
+    double r[3], rr = 0;
+    for (int k = 0; k < 3; ++k) {
+        r[k] = x[k] - p.point[k];
+        rr += r[k] * r[k];
+    }
+    rr = std::sqrt(rr);
+    const double sgn = w.shape == model::WallShape::circle_inside ? -1.0 : 1.0;
+    for (int k = 0; k < 3; ++k)
+        n[k] = rr > 0 ? sgn * r[k] / rr : 0.0;
+    return w.shape == model::WallShape::circle_inside ? w.radius - rr : rr - w.radius;
+}
+
+} // namespace
+
+WallPose wall_pose(const model::Wall& w, double t) {
+    WallPose p;
+    V3 theta{w.angular_velocity[0] * t, w.angular_velocity[1] * t, w.angular_velocity[2] * t};
+    for (int d = 0; d < 3; ++d)
+        p.centre[d] = w.centre[d] + w.velocity[d] * t;
+    V3 rel{w.point[0] - w.centre[0], w.point[1] - w.centre[1], w.point[2] - w.centre[2]};
+    rel = rotate(rel, theta);
+    for (int d = 0; d < 3; ++d)
+        p.point[d] = p.centre[d] + rel[d];
+    p.normal = rotate(w.normal, theta);
+    p.velocity = w.velocity;
+    p.omega = w.angular_velocity;
+    return p;
+}
+
+WallContact::WallContact(const model::Model& m, double skin) : m_(m), walls_(m.walls), skin_(skin) {
+    for (auto g : m.bodies.group)
+        ngroups_ = std::max(ngroups_, g + 1);
+    law_.assign(static_cast<std::size_t>(ngroups_) * walls_.size(), -1);
+    for (std::size_t w = 0; w < walls_.size(); ++w)
+        for (int g = 0; g < ngroups_; ++g)
+            for (std::size_t k = 0; k < m.contact.size(); ++k) {
+                const auto& c = m.contact[k];
+                if (((c.group_a == g && c.group_b == walls_[w].group) ||
+                     (c.group_b == g && c.group_a == walls_[w].group)) &&
+                    c.stiffness > 0 && c.radius > 0) {
+                    law_[static_cast<std::size_t>(g) * walls_.size() + w] =
+                        static_cast<std::int32_t>(k);
+                    rc_max_ = std::max(rc_max_, c.radius);
+                }
+            }
+    active_ = std::any_of(law_.begin(), law_.end(), [](auto k) { return k >= 0; });
+}
+
+bool WallContact::update(const State& s) {
+    if (!active_)
+        return false;
+    if (built_) {
+        // Bound on how far any wall surface point near the grains moved since the build.
+        double wall_move = 0;
+        const double dt = s.time - t_build_;
+        for (const auto& w : walls_) {
+            const double v = std::sqrt(w.velocity[0] * w.velocity[0] +
+                                       w.velocity[1] * w.velocity[1] +
+                                       w.velocity[2] * w.velocity[2]);
+            const double om = std::sqrt(w.angular_velocity[0] * w.angular_velocity[0] +
+                                        w.angular_velocity[1] * w.angular_velocity[1] +
+                                        w.angular_velocity[2] * w.angular_velocity[2]);
+            wall_move = std::max(wall_move, (v + om * extent_) * dt);
+        }
+        const double half = 0.5 * skin_;
+        double lim = half - wall_move;
+        bool far = lim <= 0;
+        if (!far) {
+            const double lim2 = lim * lim;
+            const auto n = static_cast<std::int64_t>(s.n);
+#pragma omp parallel for schedule(static) reduction(|| : far) if (n > parallel_min)
+            for (std::int64_t i = 0; i < n; ++i) {
+                double d2 = 0;
+                for (int d = 0; d < 3; ++d) {
+                    const double e = s.x[3 * i + d] - x_build_[3 * i + d];
+                    d2 += e * e;
+                }
+                far = far || d2 > lim2;
+            }
+        }
+        if (!far)
+            return false;
+    }
+    rebuild(s);
+    return true;
+}
+
+void WallContact::rebuild(const State& s) {
+    ++rebuilds_;
+    built_ = true;
+    x_build_ = s.x;
+    t_build_ = s.time;
+    nodes_.clear();
+    wall_of_.clear();
+    offsets_.assign(1, 0);
+    extent_ = 0;
+    std::vector<WallPose> pose;
+    for (const auto& w : walls_)
+        pose.push_back(wall_pose(w, s.time));
+    const double reach = rc_max_ + skin_;
+    for (std::size_t i = 0; i < s.n; ++i) {
+        if (!s.moving[i])
+            continue;
+        const auto g = static_cast<std::size_t>(
+            m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
+        bool any = false;
+        for (std::size_t w = 0; w < walls_.size(); ++w) {
+            if (law_[g * walls_.size() + w] < 0)
+                continue;
+            double n[3];
+            const double d = distance(walls_[w], pose[w], &s.x[3 * i], n);
+            if (d < reach) {
+                wall_of_.push_back(static_cast<std::int32_t>(w));
+                any = true;
+                double r2 = 0;
+                for (int k = 0; k < 3; ++k)
+                    r2 += std::pow(s.x[3 * i + k] - pose[w].centre[k], 2);
+                extent_ = std::max(extent_, std::sqrt(r2));
+            }
+        }
+        if (any) {
+            nodes_.push_back(static_cast<index_t>(i));
+            offsets_.push_back(static_cast<std::int64_t>(wall_of_.size()));
+        }
+    }
+}
+
+void WallContact::add_forces(State& s, double dt, WallLoad& load,
+                             std::vector<BodyWallForce>* normal) const {
+    const std::size_t nw = walls_.size();
+    load.force.assign(3 * nw, 0.0);
+    load.moment.assign(3 * nw, 0.0);
+    load.touching = 0;
+    load.energy = 0;
+    if (!active_ || nodes_.empty())
+        return;
+    std::vector<WallPose> pose;
+    for (const auto& w : walls_)
+        pose.push_back(wall_pose(w, s.time));
+    const auto nn = static_cast<std::int64_t>(nodes_.size());
+    std::vector<double> fm(6 * nw, 0.0); // force then moment, per wall
+    double* fmp = fm.data();
+    const std::size_t len = fm.size();
+    std::int64_t touching = 0;
+    double energy = 0;
+    std::vector<BodyWallForce> records;
+#pragma omp parallel reduction(+ : touching, energy, fmp[:len]) if (nn > parallel_min)
+    {
+        std::vector<BodyWallForce> mine;
+#pragma omp for schedule(static) nowait
+        for (std::int64_t a = 0; a < nn; ++a) {
+            const auto i = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(a)]);
+            const double* x = &s.x[3 * i];
+            const double* v = &s.v[3 * i];
+            const auto g = static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
+            for (auto k = offsets_[static_cast<std::size_t>(a)];
+                 k < offsets_[static_cast<std::size_t>(a) + 1]; ++k) {
+                const auto w = static_cast<std::size_t>(wall_of_[static_cast<std::size_t>(k)]);
+                const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
+                double n[3];
+                const double d = distance(walls_[w], pose[w], x, n);
+                if (d >= law.radius)
+                    continue;
+                const double fn = law.stiffness * (law.radius - d) * s.vol[i]; // density
+                double f[3] = {fn * n[0], fn * n[1], fn * n[2]};
+                if (normal)
+                    mine.push_back({s.body[i], static_cast<std::int32_t>(w),
+                                    static_cast<index_t>(i),
+                                    {f[0] * s.vol[i], f[1] * s.vol[i], f[2] * s.vol[i]}});
+                if (law.friction > 0) {
+                    // Wall surface velocity at x: v_w + omega x (x - c).
+                    const auto& p = pose[w];
+                    const double r[3] = {x[0] - p.centre[0], x[1] - p.centre[1],
+                                         x[2] - p.centre[2]};
+                    const double vw[3] = {p.velocity[0] + p.omega[1] * r[2] - p.omega[2] * r[1],
+                                          p.velocity[1] + p.omega[2] * r[0] - p.omega[0] * r[2],
+                                          p.velocity[2] + p.omega[0] * r[1] - p.omega[1] * r[0]};
+                    double vt[3] = {vw[0] - v[0], vw[1] - v[1], vw[2] - v[2]};
+                    const double vn = vt[0] * n[0] + vt[1] * n[1] + vt[2] * n[2];
+                    for (int q = 0; q < 3; ++q)
+                        vt[q] -= vn * n[q];
+                    const double vtm = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+                    if (vtm > 0) {
+                        // Coulomb, never reversing the slip within one step (stick).
+                        const double ft =
+                            std::min(law.friction * fn, s.rho[i] * vtm / dt) / vtm;
+                        for (int q = 0; q < 3; ++q)
+                            f[q] += ft * vt[q];
+                    }
+                }
+                for (int q = 0; q < 3; ++q)
+                    s.f[3 * i + q] += f[q];
+                const double F[3] = {-f[0] * s.vol[i], -f[1] * s.vol[i], -f[2] * s.vol[i]};
+                const auto& c = pose[w].centre;
+                const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+                fmp[6 * w + 0] += F[0];
+                fmp[6 * w + 1] += F[1];
+                fmp[6 * w + 2] += F[2];
+                fmp[6 * w + 3] += r[1] * F[2] - r[2] * F[1];
+                fmp[6 * w + 4] += r[2] * F[0] - r[0] * F[2];
+                fmp[6 * w + 5] += r[0] * F[1] - r[1] * F[0];
+                energy += 0.5 * law.stiffness * (law.radius - d) * (law.radius - d) * s.vol[i] *
+                          s.vol[i];
+                ++touching;
+            }
+        }
+        if (normal) {
+#pragma omp critical(pd_wall_records)
+            records.insert(records.end(), mine.begin(), mine.end());
+        }
+    }
+    for (std::size_t w = 0; w < nw; ++w)
+        for (int q = 0; q < 3; ++q) {
+            load.force[3 * w + static_cast<std::size_t>(q)] = fm[6 * w + static_cast<std::size_t>(q)];
+            load.moment[3 * w + static_cast<std::size_t>(q)] =
+                fm[6 * w + 3 + static_cast<std::size_t>(q)];
+        }
+    load.touching = touching;
+    load.energy = energy;
+    if (normal) {
+        // Deterministic order whatever the thread schedule (bitwise restarts).
+        std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) {
+            return a.node != b.node ? a.node < b.node : a.wall < b.wall;
+        });
+        *normal = std::move(records);
+    }
+}
+
+} // namespace pd::solver

@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+// Contact of nodes with rigid analytic walls (planes, circles/spheres inside or outside; fixed,
+// translating or rotating). A wall acts on a node like a mirror node of the same volume behind
+// its surface: f_i = Kn (R_c - d) V_i n for signed distance d < R_c (n into the free side), with
+// the (grain group, wall group) law of the contact table. Coulomb friction opposes slip relative
+// to the moving wall surface. Every wall receives the reaction force and its moment about the
+// wall's rotation centre. Candidate nodes are kept in a list with a skin, rebuilt only when a
+// node or the wall moved more than half the skin.
+#pragma once
+
+#include "model/model.hpp"
+#include "solver/state.hpp"
+
+#include <array>
+#include <vector>
+
+namespace pd::solver {
+
+/// Position of a wall at time t.
+struct WallPose {
+    std::array<double, 3> point;   ///< m
+    std::array<double, 3> normal;  ///< unit (plane)
+    std::array<double, 3> centre;  ///< m, rotation centre
+    std::array<double, 3> velocity;
+    std::array<double, 3> omega;
+};
+WallPose wall_pose(const model::Wall& w, double t);
+
+/// Per-wall contact result of one force evaluation.
+struct WallLoad {
+    std::vector<double> force;  ///< 3 per wall, N (2D: per unit thickness), received by the wall
+    std::vector<double> moment; ///< 3 per wall, N m, about the wall's current rotation centre
+    std::int64_t touching = 0;  ///< node-wall pairs in contact
+    double energy = 0;          ///< J, wall springs 1/2 Kn (R_c - d)^2 V_i^2
+};
+
+/// Normal contact force on a body from one wall in one evaluation (for damping).
+struct BodyWallForce {
+    std::int32_t body;
+    std::int32_t wall;
+    index_t node;
+    double force[3]; ///< normal force on the body, N
+};
+
+class WallContact {
+  public:
+    WallContact(const model::Model& m, double skin);
+    bool active() const { return active_; }
+    /// Rebuilds candidate lists if a node or a wall moved more than half the skin.
+    bool update(const State& s);
+    /// Adds wall contact (and friction) force densities to s.f at time s.time.
+    void add_forces(State& s, double dt, WallLoad& load, std::vector<BodyWallForce>* normal) const;
+    std::size_t num_walls() const { return walls_.size(); }
+    std::int64_t rebuilds() const { return rebuilds_; }
+    double max_radius() const { return rc_max_; }
+
+  private:
+    void rebuild(const State& s);
+    const model::Model& m_;
+    std::vector<model::Wall> walls_;
+    std::vector<std::int32_t> law_; ///< per (body group, wall): index into m_.contact or -1
+    int ngroups_ = 0;
+    bool active_ = false;
+    double skin_ = 0;
+    double rc_max_ = 0;
+    // candidates: node-major CSR of walls
+    std::vector<index_t> nodes_;
+    std::vector<std::int64_t> offsets_;
+    std::vector<std::int32_t> wall_of_;
+    std::vector<double> x_build_;
+    double t_build_ = 0;
+    double extent_ = 0; ///< max node distance from a rotation centre at build
+    bool built_ = false;
+    std::int64_t rebuilds_ = 0;
+};
+
+} // namespace pd::solver
