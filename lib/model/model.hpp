@@ -109,8 +109,49 @@ struct Wall {
     std::array<double, 3> centre{0, 0, 0};   ///< m, rotation centre at t = 0
 };
 
+/// Time function T(t) of a boundary condition (spec 5.6-5.7; pdgrain takes the consistent
+/// derivative for `quadratic`). value = amplitude * T(t) * S(X).
+enum class TimeFn : std::uint8_t {
+    constant = 0,  ///< T = 1 (displacement: u = a, v = 0)
+    linear = 1,    ///< T = t
+    quadratic = 2, ///< T = t + p1 t^2
+    sine = 3,      ///< T = sin(pi p1 t)
+};
+
+/// Space function S(X) of a boundary condition, of the reference position.
+enum class SpaceFn : std::uint8_t {
+    constant = 0, ///< S = 1
+    linear_x = 1, ///< S = p0 x
+    linear_y = 2, ///< S = p0 y
+    sine_x = 3,   ///< S = sin(pi p0 x)
+};
+
+/// A displacement or force condition on a node set resolved at pack time from bodies and/or a
+/// box region of the reference configuration.
+struct NodeCondition {
+    std::string name;
+    bool is_force = false;          ///< false: prescribed displacement; true: body force density
+    std::uint8_t dofs = 0;          ///< bit d set = component d (x=1, y=2, z=4)
+    std::vector<index_t> nodes;     ///< selected nodes (sorted)
+    double amplitude = 0;           ///< m (displacement) or N m-3 (force density)
+    TimeFn time_fn = TimeFn::constant;
+    SpaceFn space_fn = SpaceFn::constant;
+    std::array<double, 2> params{0, 0}; ///< p0 (space), p1 (time)
+};
+
 struct Loading {
     std::array<double, 3> gravity{0, 0, 0}; ///< m s-2
+    std::vector<NodeCondition> conditions;
+    /// Mass-proportional viscous damping c (s-1): f -= c rho v on every moving node. For
+    /// quasi-static problems by dynamic relaxation; 0 (default) for true dynamics.
+    double viscous_damping = 0;
+};
+
+/// A straight pre-crack: bonds crossing the segment (2D) start broken. In 3D a planar
+/// rectangle through p0, p1 extruded along z is used.
+struct PreCrack {
+    std::array<double, 3> p0{0, 0, 0};
+    std::array<double, 3> p1{0, 0, 0};
 };
 
 enum class Integrator : std::uint8_t { velocity_verlet = 0, symplectic_euler = 1 };
@@ -120,6 +161,7 @@ struct SolverSettings {
     double dt = 0;                  ///< s; 0 = automatic (stable estimate times safety)
     double dt_safety = 0.5;         ///< factor on the stability estimate
     double output_interval = 0;     ///< s between frames; 0 = first and last only
+    double checkpoint_interval = 0; ///< s between checkpoints; 0 = at the end only
     std::int64_t observe_every = 1; ///< steps between observable rows
     Integrator integrator = Integrator::velocity_verlet;
     double contact_skin = 0;        ///< m; 0 = automatic (half the largest contact radius)
@@ -136,6 +178,7 @@ struct Model {
     Bonds bonds;
     std::vector<ContactPair> contact;
     std::vector<Wall> walls;
+    std::vector<PreCrack> cracks;
     Loading loading;
     SolverSettings solver;
     std::string scene_json; ///< the scene as given (comments stripped)

@@ -158,7 +158,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
     }
     check_keys(root, "", {"title", "dimension", "planar", "materials", "discretization",
-                          "particles", "walls", "contact", "loading", "solver"});
+                          "particles", "walls", "cracks", "contact", "loading", "solver"});
     model::Model m;
     m.scene_json = root.dump(2);
     m.title = text(root, "", "title", source);
@@ -479,15 +479,118 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
 
     // Loading.
     const json& ld = root.contains("loading") ? root["loading"] : empty;
-    check_keys(ld, "loading", {"gravity"});
+    check_keys(ld, "loading", {"gravity", "viscous_damping", "conditions"});
     m.loading.gravity = vec(ld, "loading", "gravity", m.dimension, {0, 0, 0});
+    m.loading.viscous_damping = number(ld, "loading", "viscous_damping", 0);
+    if (m.loading.viscous_damping < 0)
+        throw ConfigError("loading.viscous_damping", "must be >= 0");
+    if (ld.contains("conditions")) {
+        if (!ld["conditions"].is_array())
+            throw ConfigError("loading.conditions", "expected a list");
+        for (std::size_t k = 0; k < ld["conditions"].size(); ++k) {
+            const json& cj = ld["conditions"][k];
+            const std::string w = fmt::format("loading.conditions[{}]", k);
+            check_keys(cj, w, {"name", "kind", "particles", "region", "components", "value",
+                               "time_function", "time_parameter", "space_function",
+                               "space_parameter"});
+            model::NodeCondition c;
+            c.name = text(cj, w, "name", fmt::format("condition_{}", k));
+            c.is_force = text(cj, w, "kind", "", {"displacement", "force_density"}) ==
+                         "force_density";
+            if (!cj.contains("kind"))
+                throw ConfigError(w + ".kind", "missing: displacement or force_density");
+            c.amplitude = number(cj, w, "value", 0, true);
+            const auto tf = text(cj, w, "time_function", "constant",
+                                 {"constant", "linear", "quadratic", "sine"});
+            c.time_fn = tf == "constant"    ? model::TimeFn::constant
+                        : tf == "linear"    ? model::TimeFn::linear
+                        : tf == "quadratic" ? model::TimeFn::quadratic
+                                            : model::TimeFn::sine;
+            const auto sf = text(cj, w, "space_function", "constant",
+                                 {"constant", "linear_x", "linear_y", "sine_x"});
+            c.space_fn = sf == "constant"   ? model::SpaceFn::constant
+                         : sf == "linear_x" ? model::SpaceFn::linear_x
+                         : sf == "linear_y" ? model::SpaceFn::linear_y
+                                            : model::SpaceFn::sine_x;
+            c.params = {number(cj, w, "space_parameter", 1.0),
+                        number(cj, w, "time_parameter", 0.0)};
+            if (!cj.contains("components") || !cj["components"].is_array() ||
+                cj["components"].empty())
+                throw ConfigError(w + ".components", "missing: a list of \"x\", \"y\", \"z\"");
+            for (const auto& comp : cj["components"]) {
+                const std::string cs = comp.is_string() ? comp.get<std::string>() : "";
+                if (cs == "x")
+                    c.dofs |= 1;
+                else if (cs == "y")
+                    c.dofs |= 2;
+                else if (cs == "z" && m.dimension == 3)
+                    c.dofs |= 4;
+                else
+                    throw ConfigError(w + ".components",
+                                      "entries must be \"x\", \"y\"" +
+                                          std::string(m.dimension == 3 ? " or \"z\"" : ""));
+            }
+            std::vector<std::uint8_t> take_body(B.num(), 1);
+            if (cj.contains("particles")) {
+                if (!cj["particles"].is_array())
+                    throw ConfigError(w + ".particles", "expected a list of particle indices");
+                std::fill(take_body.begin(), take_body.end(), 0);
+                for (const auto& id : cj["particles"]) {
+                    if (!id.is_number_integer() || id.get<long>() < 0 ||
+                        static_cast<std::size_t>(id.get<long>()) >= B.num())
+                        throw ConfigError(w + ".particles",
+                                          fmt::format("{} is not a particle index in [0, {})",
+                                                      id.dump(), B.num()));
+                    take_body[id.get<std::size_t>()] = 1;
+                }
+            }
+            std::array<double, 3> lo{-1e300, -1e300, -1e300}, hi{1e300, 1e300, 1e300};
+            if (cj.contains("region")) {
+                const json& r = cj["region"];
+                check_keys(r, w + ".region", {"min", "max"});
+                lo = vec(r, w + ".region", "min", m.dimension, {0, 0, 0}, true);
+                hi = vec(r, w + ".region", "max", m.dimension, {0, 0, 0}, true);
+                if (m.dimension == 2) {
+                    lo[2] = -1e300;
+                    hi[2] = 1e300;
+                }
+            }
+            if (!cj.contains("particles") && !cj.contains("region"))
+                throw ConfigError(w, "select nodes with \"particles\" and/or \"region\"");
+            for (std::size_t i = 0; i < m.nodes.num(); ++i) {
+                if (!take_body[static_cast<std::size_t>(m.nodes.body[i])])
+                    continue;
+                bool in = true;
+                for (std::size_t d = 0; d < 3; ++d)
+                    in = in && m.nodes.x0[3 * i + d] >= lo[d] && m.nodes.x0[3 * i + d] <= hi[d];
+                if (in)
+                    c.nodes.push_back(static_cast<model::index_t>(i));
+            }
+            if (c.nodes.empty())
+                throw ConfigError(w, "selects no node (check region and particles)");
+            m.loading.conditions.push_back(std::move(c));
+        }
+    }
+
+    // Pre-cracks: bonds crossing a segment start broken.
+    if (root.contains("cracks")) {
+        if (!root["cracks"].is_array())
+            throw ConfigError("cracks", "expected a list of {\"from\": [..], \"to\": [..]}");
+        for (std::size_t k = 0; k < root["cracks"].size(); ++k) {
+            const json& cj = root["cracks"][k];
+            const std::string w = fmt::format("cracks[{}]", k);
+            check_keys(cj, w, {"from", "to"});
+            m.cracks.push_back({vec(cj, w, "from", m.dimension, {0, 0, 0}, true),
+                                vec(cj, w, "to", m.dimension, {0, 0, 0}, true)});
+        }
+    }
 
     // Solver settings.
     if (!root.contains("solver"))
         throw ConfigError("solver", "missing: give at least final_time");
     const json& sv = root["solver"];
     check_keys(sv, "solver", {"final_time", "dt", "dt_safety", "output_interval", "observe_every",
-                              "integrator", "contact_skin"});
+                              "integrator", "contact_skin", "checkpoint_interval"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
     if (sv.contains("dt") && sv["dt"].is_string())
@@ -501,6 +604,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     if (S.output_interval < 0)
         throw ConfigError("solver.output_interval", "must be >= 0");
     S.observe_every = static_cast<std::int64_t>(positive(sv, "solver", "observe_every", 1));
+    S.checkpoint_interval = number(sv, "solver", "checkpoint_interval", 0);
+    if (S.checkpoint_interval < 0)
+        throw ConfigError("solver.checkpoint_interval", "must be >= 0 (0 = at the end only)");
     S.integrator = text(sv, "solver", "integrator", "velocity_verlet",
                         {"velocity_verlet", "symplectic_euler"}) == "velocity_verlet"
                        ? model::Integrator::velocity_verlet

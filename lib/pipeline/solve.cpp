@@ -5,12 +5,15 @@
 #include "core/timer.hpp"
 #include "h5/file.hpp"
 #include "solver/solver.hpp"
+#include "store/checkpoint_io.hpp"
 #include "store/frames.hpp"
 #include "store/model_io.hpp"
 #include "store/provenance.hpp"
 #include "store/schema.hpp"
 
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <map>
 #include <span>
 
@@ -47,12 +50,24 @@ void solve(const SolveOptions& opt, Context& ctx) {
     const double wall0 = wall_seconds();
     auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
     ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
-    const model::Model m = store::read_model(*f);
+    model::Model m = store::read_model(*f);
+    if (opt.final_time > 0)
+        m.solver.final_time = opt.final_time;
 
     solver::Solver s(m);
+    std::optional<store::Checkpoint> ck;
+    if (opt.restart) {
+        ck = store::read_latest_checkpoint(*f, m.nodes.num(), m.bonds.num());
+        if (!ck)
+            throw InputError(fmt::format("{}: /checkpoints: no checkpoint to restart from (run "
+                                         "pd-solve without --restart first)",
+                                         opt.file));
+    }
     const auto est = s.stable_dt();
     double dt = m.solver.dt;
-    if (dt == 0) {
+    if (ck) {
+        dt = ck->dt; // the run continues with its own step
+    } else if (dt == 0) {
         dt = m.solver.dt_safety * est.limit;
     } else if (dt > est.limit) {
         const std::string msg = fmt::format(
@@ -66,44 +81,86 @@ void solve(const SolveOptions& opt, Context& ctx) {
     if (!std::isfinite(dt) || !(dt > 0))
         throw InputError(fmt::format("{}: no finite time step: set /solver/dt in the scene",
                                      opt.file));
-    // A whole number of steps ending exactly at final_time.
-    const auto total = static_cast<std::int64_t>(std::ceil(m.solver.final_time / dt - 1e-9));
-    dt = m.solver.final_time / static_cast<double>(total);
+    std::int64_t total = 0;
+    if (ck) {
+        // Same dt; as many steps as reach final_time.
+        total = static_cast<std::int64_t>(std::llround(m.solver.final_time / dt));
+        if (total <= ck->step)
+            throw InputError(fmt::format("{}: the checkpoint is at t = {:.6g} s, at or past the "
+                                         "final time {:.6g} s (raise it with --final-time)",
+                                         opt.file, ck->time, m.solver.final_time));
+    } else {
+        // A whole number of steps ending exactly at final_time.
+        total = static_cast<std::int64_t>(std::ceil(m.solver.final_time / dt - 1e-9));
+        dt = m.solver.final_time / static_cast<double>(total);
+    }
     s.set_dt(dt);
-    const std::int64_t steps = opt.max_steps >= 0 ? std::min(opt.max_steps, total) : total;
+    const std::int64_t first = ck ? ck->step : 0;
+    const std::int64_t last = opt.max_steps >= 0 ? std::min(first + opt.max_steps, total) : total;
     const std::int64_t out_every =
         m.solver.output_interval > 0
             ? std::max<std::int64_t>(1, std::llround(m.solver.output_interval / dt))
-            : std::max<std::int64_t>(1, steps);
+            : std::max<std::int64_t>(1, total);
+    const std::int64_t ckpt_every =
+        m.solver.checkpoint_interval > 0
+            ? std::max<std::int64_t>(1, std::llround(m.solver.checkpoint_interval / dt))
+            : std::numeric_limits<std::int64_t>::max();
     const std::int64_t obs_every = std::max<std::int64_t>(1, m.solver.observe_every);
-    ctx.log.info("{}: {} bodies, {} nodes, {} bonds; dt = {:.4g} s ({:.3g} x stability limit "
-                 "{:.4g} s, governed by {}), {} steps to t = {:.4g} s, a frame every {} steps",
-                 opt.file, m.bodies.num(), m.nodes.num(), m.bonds.num(), dt, dt / est.limit,
-                 est.limit, est.governing, steps, dt * static_cast<double>(steps), out_every);
-    if (!s.contact().active())
-        ctx.log.info("contact: off (fewer than two bodies with a contact law)");
+    ctx.log.info("{}: {} bodies, {} walls, {} nodes, {} bonds; dt = {:.4g} s ({:.3g} x stability "
+                 "limit {:.4g} s, governed by {}), steps {} to {} (t = {:.4g} s), a frame every "
+                 "{} steps",
+                 opt.file, m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), dt,
+                 dt / est.limit, est.limit, est.governing, first, last,
+                 dt * static_cast<double>(last), out_every);
+    if (!s.contact().active() && !s.walls().active())
+        ctx.log.info("contact: off (no two bodies or walls with a contact law)");
 
-    // Fresh output: previous frames and observables are replaced.
-    f->remove(store::path::particles);
-    f->remove(store::path::observables);
-    std::vector<double> mass(m.nodes.num());
-    for (std::size_t i = 0; i < mass.size(); ++i)
-        mass[i] = s.state().rho[i] * s.state().vol[i];
+    std::vector<double> damage, force;
+    if (ck) {
+        store::truncate_after(*f, ck->step);
+        s.restore(ck->step, ck->time, ck->u, ck->v, ck->f, ck->alive, ck->broken_total);
+        ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s)", ck->step,
+                     ck->time);
+        ck.reset();
+    } else {
+        // Fresh output: previous frames, observables and checkpoints are replaced.
+        f->remove(store::path::particles);
+        f->remove(store::path::observables);
+        f->remove(store::path::checkpoints);
+    }
     store::FrameWriter frames(*f, m.nodes.num(),
                               {"position", "velocity", "displacement", "force", "damage"});
-    store::write_particle_constants(*f, m.nodes.body, mass);
     store::ObservableWriter obs(*f, s.num_walls());
-    std::vector<double> damage, force;
-
-    s.initialize();
-    write_frame(frames, s, damage, force);
-    obs.add(0, 0.0, observable_row(s.observe()));
+    if (first == 0) {
+        std::vector<double> mass(m.nodes.num());
+        for (std::size_t i = 0; i < mass.size(); ++i)
+            mass[i] = s.state().rho[i] * s.state().vol[i];
+        store::write_particle_constants(*f, m.nodes.body, mass);
+        s.initialize();
+        if (s.precracked() > 0)
+            ctx.log.info("pre-cracks: {} bonds start broken", s.precracked() / 2);
+        write_frame(frames, s, damage, force);
+        obs.add(0, 0.0, observable_row(s.observe()));
+    }
+    auto checkpoint = [&] {
+        store::Checkpoint c;
+        const auto& st = s.state();
+        c.step = st.step;
+        c.time = st.time;
+        c.dt = dt;
+        c.u = st.u;
+        c.v = st.v;
+        c.f = st.f;
+        c.alive = s.bonds().alive;
+        c.broken_total = s.broken_total();
+        store::write_checkpoint(*f, c);
+    };
     double next_report = wall_seconds() + opt.progress_seconds;
     Timers& timers = s.timers();
     const int t_out = timers.id("pd::store::output");
-    for (std::int64_t n = 1; n <= steps; ++n) {
+    for (std::int64_t n = first + 1; n <= last; ++n) {
         s.advance();
-        const bool frame = n % out_every == 0 || n == steps;
+        const bool frame = n % out_every == 0 || n == total;
         if (n % obs_every == 0 || frame) {
             const auto o = s.observe();
             if (!std::isfinite(o.kinetic_energy) || !std::isfinite(o.elastic_energy) ||
@@ -126,22 +183,28 @@ void solve(const SolveOptions& opt, Context& ctx) {
             obs.flush();
             write_frame(frames, s, damage, force);
         }
-        if (wall_seconds() >= next_report || n == steps) {
+        if (n % ckpt_every == 0 || n == last) {
+            ScopedTimer t(timers, t_out);
+            obs.flush();
+            checkpoint();
+        }
+        if (wall_seconds() >= next_report || n == last) {
             const auto o = s.observe();
             const double el = wall_seconds() - wall0;
+            const double done = static_cast<double>(n - first);
             ctx.log.info("step {}/{} t={:.4e} s dt={:.3e} s KE={:.4e} J broken={} contacts={} "
                          "wall={:.1f} s ETA={:.1f} s",
-                         n, steps, s.state().time, dt, o.kinetic_energy, o.broken_bonds,
-                         o.contact_count, el,
-                         el / static_cast<double>(n) * static_cast<double>(steps - n));
+                         n, total, s.state().time, dt, o.kinetic_energy, o.broken_bonds,
+                         o.contact_count, el, el / done * static_cast<double>(last - n));
             next_report = wall_seconds() + opt.progress_seconds;
         }
     }
     obs.flush();
     const double wall = wall_seconds() - wall0;
-    ctx.log.info("done: {} steps, {} frames, {} contact-list rebuilds, {:.3g} node-steps/s",
-                 steps, frames.frames(), s.contact().rebuilds(),
-                 static_cast<double>(m.nodes.num()) * static_cast<double>(steps) / wall);
+    ctx.log.info("done: steps {} to {}, {} frames in the file, {} contact-list rebuilds, {:.3g} "
+                 "node-steps/s",
+                 first, last, frames.frames(), s.contact().rebuilds(),
+                 static_cast<double>(m.nodes.num()) * static_cast<double>(last - first) / wall);
     ctx.log.info("{}", timers.table(wall));
 }
 

@@ -12,6 +12,48 @@
 
 namespace pd::solver {
 
+namespace {
+
+double time_value(model::TimeFn f, double p1, double t, double* rate) {
+    switch (f) {
+    case model::TimeFn::constant: *rate = 0; return 1;
+    case model::TimeFn::linear: *rate = 1; return t;
+    case model::TimeFn::quadratic: *rate = 1 + 2 * p1 * t; return t + p1 * t * t;
+    case model::TimeFn::sine:
+        *rate = M_PI * p1 * std::cos(M_PI * p1 * t);
+        return std::sin(M_PI * p1 * t);
+    }
+    return 0;
+}
+
+double space_value(model::SpaceFn f, double p0, const double* X) {
+    switch (f) {
+    case model::SpaceFn::constant: return 1;
+    case model::SpaceFn::linear_x: return p0 * X[0];
+    case model::SpaceFn::linear_y: return p0 * X[1];
+    case model::SpaceFn::sine_x: return std::sin(M_PI * p0 * X[0]);
+    }
+    return 0;
+}
+
+/// Do the segments ab and cd cross (in the xy plane)? Touching counts.
+bool segments_cross(const double* a, const double* b, const double* c, const double* d) {
+    auto orient = [](const double* p, const double* q, const double* r) {
+        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    };
+    const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+                 o4 = orient(c, d, b);
+    return ((o1 > 0) != (o2 > 0) || o1 == 0 || o2 == 0) &&
+           ((o3 > 0) != (o4 > 0) || o3 == 0 || o4 == 0) &&
+           std::max(a[0], b[0]) >= std::min(c[0], d[0]) &&
+           std::max(c[0], d[0]) >= std::min(a[0], b[0]) &&
+           std::max(a[1], b[1]) >= std::min(c[1], d[1]) &&
+           std::max(c[1], d[1]) >= std::min(a[1], b[1]);
+}
+
+} // namespace
+
+
 Solver::Solver(const model::Model& m) : m_(m) {
     const std::size_t n = m.nodes.num(), nb = m.bodies.num();
     s_.n = n;
@@ -24,6 +66,11 @@ Solver::Solver(const model::Model& m) : m_(m) {
     s_.body = m.nodes.body;
     s_.rho.resize(n);
     s_.moving.resize(n);
+    s_.fixed_dof.assign(n, 0);
+    for (const auto& c : m.loading.conditions)
+        if (!c.is_force)
+            for (auto i : c.nodes)
+                s_.fixed_dof[static_cast<std::size_t>(i)] |= c.dofs;
     for (std::size_t i = 0; i < n; ++i) {
         const auto b = static_cast<std::size_t>(s_.body[i]);
         s_.rho[i] = m.materials[static_cast<std::size_t>(m.bodies.material[b])].density;
@@ -67,6 +114,8 @@ Solver::Solver(const model::Model& m) : m_(m) {
     const double skin = m.solver.contact_skin > 0 ? m.solver.contact_skin : rc;
     contact_ = std::make_unique<ContactList>(m, skin > 0 ? skin : 1.0);
     walls_ = std::make_unique<WallContact>(m, skin > 0 ? skin : 1.0);
+    wall_load_.force.assign(3 * m.walls.size(), 0.0);
+    wall_load_.moment.assign(3 * m.walls.size(), 0.0);
     for (const auto& p : m.contact)
         damping_ = damping_ || (p.restitution < 1 && p.stiffness > 0);
     body_mass_.assign(nb, 0.0);
@@ -158,6 +207,27 @@ void Solver::compute_forces() {
     if (damping_) {
         ScopedTimer t(timers_, t_damping_);
         apply_damping(pair_records_, wall_records_);
+    }
+    for (const auto& c : m_.loading.conditions) {
+        if (!c.is_force)
+            continue;
+        double rate = 0;
+        const double T = time_value(c.time_fn, c.params[1], s_.time, &rate);
+        for (auto i : c.nodes) {
+            const auto ii = static_cast<std::size_t>(i);
+            const double S = space_value(c.space_fn, c.params[0], &s_.x0[3 * ii]);
+            for (std::size_t d = 0; d < 3; ++d)
+                if (c.dofs & (1u << d))
+                    s_.f[3 * ii + d] += c.amplitude * T * S;
+        }
+    }
+    if (m_.loading.viscous_damping > 0) {
+        const double cd = m_.loading.viscous_damping;
+        const auto n = static_cast<std::int64_t>(s_.n);
+#pragma omp parallel for schedule(static) if (n > parallel_min)
+        for (std::int64_t i = 0; i < n; ++i)
+            for (int d = 0; d < 3; ++d)
+                s_.f[3 * i + d] -= cd * s_.rho[static_cast<std::size_t>(i)] * s_.v[3 * i + d];
     }
     if (g_[0] != 0 || g_[1] != 0 || g_[2] != 0) {
         const auto n = static_cast<std::int64_t>(s_.n);
@@ -284,7 +354,62 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
     }
 }
 
+void Solver::apply_displacements() {
+    const double t = s_.time;
+    for (const auto& c : m_.loading.conditions) {
+        if (c.is_force)
+            continue;
+        double rate = 0;
+        const double T = time_value(c.time_fn, c.params[1], t, &rate);
+        for (auto i : c.nodes) {
+            const auto ii = static_cast<std::size_t>(i);
+            const double S = space_value(c.space_fn, c.params[0], &s_.x0[3 * ii]);
+            for (std::size_t d = 0; d < 3; ++d)
+                if (c.dofs & (1u << d)) {
+                    s_.u[3 * ii + d] = c.amplitude * T * S;
+                    s_.v[3 * ii + d] = c.amplitude * rate * S;
+                    s_.x[3 * ii + d] = s_.x0[3 * ii + d] + s_.u[3 * ii + d];
+                }
+        }
+    }
+}
+
+void Solver::break_precracks() {
+    for (const auto& c : m_.cracks)
+        for (std::size_t i = 0; i < s_.n; ++i)
+            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
+                if (b_.alive[kk] &&
+                    segments_cross(&s_.x0[3 * i], &s_.x0[3 * j], c.p0.data(), c.p1.data())) {
+                    b_.alive[kk] = 0;
+                    ++precracked_;
+                }
+            }
+    broken_total_ += precracked_;
+}
+
+void Solver::restore(std::int64_t step, double time, const std::vector<double>& u,
+                     const std::vector<double>& v, const std::vector<double>& f,
+                     const std::vector<std::uint8_t>& alive, std::int64_t broken_total) {
+    PD_CHECK(u.size() == s_.u.size() && v.size() == s_.v.size() && f.size() == s_.f.size() &&
+                 alive.size() == b_.alive.size(),
+             "checkpoint sizes");
+    initialized_ = true;
+    s_.step = step;
+    s_.time = time;
+    s_.u = u;
+    s_.v = v;
+    s_.f = f;
+    for (std::size_t k = 0; k < s_.x.size(); ++k)
+        s_.x[k] = s_.x0[k] + s_.u[k];
+    b_.alive = alive;
+    broken_total_ = broken_total;
+}
+
 void Solver::initialize() {
+    initialized_ = true;
+    break_precracks();
     for (std::size_t b = 0; b < m_.bodies.num(); ++b) {
         if (m_.bodies.fixed[b])
             continue;
@@ -293,6 +418,7 @@ void Solver::initialize() {
                 s_.v[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(d)] =
                     m_.bodies.initial_velocity[3 * b + static_cast<std::size_t>(d)];
     }
+    apply_displacements();
     compute_forces();
 }
 
@@ -308,7 +434,10 @@ void Solver::advance() {
             if (!s_.moving[static_cast<std::size_t>(i)])
                 continue;
             const double a = kick / s_.rho[static_cast<std::size_t>(i)];
+            const auto fixed = s_.fixed_dof[static_cast<std::size_t>(i)];
             for (int d = 0; d < 3; ++d) {
+                if (fixed & (1u << d))
+                    continue;
                 const auto k = static_cast<std::size_t>(3 * i + d);
                 s_.v[k] += a * s_.f[k];
                 s_.u[k] += dt * s_.v[k];
@@ -318,6 +447,7 @@ void Solver::advance() {
     }
     s_.time += dt;
     ++s_.step;
+    apply_displacements();
     compute_forces();
     if (verlet) {
         ScopedTimer t(timers_, t_integrate_);
@@ -326,7 +456,10 @@ void Solver::advance() {
             if (!s_.moving[static_cast<std::size_t>(i)])
                 continue;
             const double a = kick / s_.rho[static_cast<std::size_t>(i)];
+            const auto fixed = s_.fixed_dof[static_cast<std::size_t>(i)];
             for (int d = 0; d < 3; ++d) {
+                if (fixed & (1u << d))
+                    continue;
                 const auto k = static_cast<std::size_t>(3 * i + d);
                 s_.v[k] += a * s_.f[k];
             }

@@ -66,8 +66,19 @@ class Solver {
     std::size_t num_walls() const { return walls_->num_walls(); }
     std::int64_t broken_total() const { return broken_total_; }
 
+    /// Continues from a checkpoint instead of initialize(): state, bond state and forces as they
+    /// were, so the run continues bit for bit.
+    void restore(std::int64_t step, double time, const std::vector<double>& u,
+                 const std::vector<double>& v, const std::vector<double>& f,
+                 const std::vector<std::uint8_t>& alive, std::int64_t broken_total);
+    /// Sets u, v, x of prescribed components at time s.time (spec 5.6).
+    void apply_displacements();
+    /// Number of bonds that cross a pre-crack (broken at initialize()).
+    std::int64_t precracked() const { return precracked_; }
+
   private:
     void compute_forces();
+    void break_precracks();
     void apply_damping(const std::vector<BodyPairForce>& pairs,
                        const std::vector<BodyWallForce>& walls);
 
@@ -88,6 +99,8 @@ class Solver {
     double contact_energy_ = 0;
     std::int64_t contact_count_ = 0;
     std::int64_t broken_total_ = 0; ///< from both ends
+    std::int64_t precracked_ = 0;
+    bool initialized_ = false;
     Timers timers_;
     int t_bonds_, t_contact_, t_search_, t_integrate_, t_walls_, t_damping_;
 };

@@ -29,6 +29,7 @@ struct State {
     std::vector<double> rho; ///< density, kg m-3
     std::vector<std::int32_t> body;
     std::vector<std::uint8_t> moving; ///< 1 = integrated (free body)
+    std::vector<std::uint8_t> fixed_dof; ///< bit d: component d prescribed by a condition
     std::int64_t step = 0;
     double time = 0;
 };

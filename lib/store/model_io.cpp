@@ -205,15 +205,43 @@ void write_model(h5::File& f, const model::Model& m) {
         put(f, w + "/angular_velocity", omega, {nw, 3}, "rad s-1");
         put(f, w + "/centre", centre, {nw, 3}, "m");
     }
+    // Pre-cracks.
+    f.remove(path::cracks);
+    if (!m.cracks.empty()) {
+        std::vector<double> seg;
+        for (const auto& c : m.cracks) {
+            seg.insert(seg.end(), c.p0.begin(), c.p0.end());
+            seg.insert(seg.end(), c.p1.begin(), c.p1.end());
+        }
+        put(f, std::string(path::cracks) + "/segments", seg, {m.cracks.size(), 2, 3}, "m");
+    }
     // Loading and solver settings.
     put(f, std::string(path::loading) + "/gravity",
         std::vector<double>(m.loading.gravity.begin(), m.loading.gravity.end()), {3}, "m s-2");
+    put_scalar(f, std::string(path::loading) + "/viscous_damping", m.loading.viscous_damping,
+               "s-1");
+    f.remove(std::string(path::loading) + "/conditions");
+    for (std::size_t k = 0; k < m.loading.conditions.size(); ++k) {
+        const auto& c = m.loading.conditions[k];
+        const std::string g = fmt::format("{}/conditions/{:03d}", path::loading, k);
+        f.create_group(g);
+        f.set_attr(g, "name", c.name);
+        f.set_attr(g, "kind", c.is_force ? "force_density" : "displacement");
+        f.set_attr(g, "dofs", static_cast<std::int32_t>(c.dofs));
+        f.set_attr(g, "time_function", static_cast<std::int32_t>(c.time_fn));
+        f.set_attr(g, "space_function", static_cast<std::int32_t>(c.space_fn));
+        put(f, g + "/nodes", c.nodes, {c.nodes.size()}, "1");
+        put_scalar(f, g + "/amplitude", c.amplitude, c.is_force ? "N m-3" : "m");
+        put(f, g + "/parameters", std::vector<double>(c.params.begin(), c.params.end()), {2},
+            "1");
+    }
     const std::string s = path::solver;
     const auto& S = m.solver;
     put_scalar(f, s + "/final_time", S.final_time, "s");
     put_scalar(f, s + "/dt", S.dt, "s");
     put_scalar(f, s + "/dt_safety", S.dt_safety, "1");
     put_scalar(f, s + "/output_interval", S.output_interval, "s");
+    put_scalar(f, s + "/checkpoint_interval", S.checkpoint_interval, "s");
     put_scalar(f, s + "/observe_every", S.observe_every, "1");
     put_scalar(f, s + "/contact_skin", S.contact_skin, "m");
     f.set_attr(s, "integrator", S.integrator == model::Integrator::velocity_verlet
@@ -375,12 +403,47 @@ model::Model read_model(const h5::File& f) {
     // Loading and solver.
     auto g = get<double>(f, std::string(path::loading) + "/gravity", {3});
     m.loading.gravity = {g[0], g[1], g[2]};
+    const std::string lvd = std::string(path::loading) + "/viscous_damping";
+    m.loading.viscous_damping = f.exists(lvd) ? get_scalar<double>(f, lvd) : 0.0;
+    const std::string lc = std::string(path::loading) + "/conditions";
+    if (f.exists(lc))
+        for (const auto& name : f.list(lc)) {
+            const std::string gc = lc + "/" + name;
+            model::NodeCondition c;
+            c.name = f.attr_string(gc, "name");
+            const auto kind = f.attr_string(gc, "kind");
+            if (kind != "displacement" && kind != "force_density")
+                throw SchemaError(f.name(), gc, "kind '" + kind + "' unknown");
+            c.is_force = kind == "force_density";
+            c.dofs = static_cast<std::uint8_t>(f.attr<std::int32_t>(gc, "dofs"));
+            const auto tf = f.attr<std::int32_t>(gc, "time_function");
+            const auto sf = f.attr<std::int32_t>(gc, "space_function");
+            if (tf < 0 || tf > 3 || sf < 0 || sf > 3 || c.dofs == 0 || c.dofs > 7)
+                throw SchemaError(f.name(), gc, "bad dofs, time_function or space_function");
+            c.time_fn = static_cast<model::TimeFn>(tf);
+            c.space_fn = static_cast<model::SpaceFn>(sf);
+            c.nodes = get<std::int32_t>(f, gc + "/nodes", {0});
+            require_range<std::int32_t>(f, gc + "/nodes", c.nodes, 0, static_cast<std::int32_t>(n));
+            c.amplitude = get_scalar<double>(f, gc + "/amplitude");
+            auto p = get<double>(f, gc + "/parameters", {2});
+            c.params = {p[0], p[1]};
+            m.loading.conditions.push_back(std::move(c));
+        }
+    const std::string cs = std::string(path::cracks) + "/segments";
+    if (f.exists(cs)) {
+        auto seg = get<double>(f, cs, {0, 2, 3});
+        for (std::size_t k = 0; k + 6 <= seg.size(); k += 6)
+            m.cracks.push_back({{seg[k], seg[k + 1], seg[k + 2]}, {seg[k + 3], seg[k + 4], seg[k + 5]}});
+    }
     const std::string s = path::solver;
     auto& S = m.solver;
     S.final_time = get_scalar<double>(f, s + "/final_time");
     S.dt = get_scalar<double>(f, s + "/dt");
     S.dt_safety = get_scalar<double>(f, s + "/dt_safety");
     S.output_interval = get_scalar<double>(f, s + "/output_interval");
+    S.checkpoint_interval = f.exists(s + "/checkpoint_interval")
+                                ? get_scalar<double>(f, s + "/checkpoint_interval")
+                                : 0.0;
     S.observe_every = get_scalar<std::int64_t>(f, s + "/observe_every");
     S.contact_skin = get_scalar<double>(f, s + "/contact_skin");
     const std::string integ = f.attr_string(s, "integrator");

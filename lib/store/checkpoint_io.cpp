@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+#include "store/checkpoint_io.hpp"
+
+#include "core/errors.hpp"
+#include "h5/file.hpp"
+#include "store/schema.hpp"
+
+namespace pd::store {
+
+void write_checkpoint(h5::File& f, const Checkpoint& c) {
+    const std::string root = path::checkpoints;
+    f.create_group(root);
+    const std::string name = fmt::format("step_{:012d}", c.step);
+    const std::string g = root + "/" + name;
+    f.remove(g);
+    f.create_group(g);
+    const std::uint64_t n = c.u.size() / 3;
+    auto put = [&](const std::string& p, const std::vector<double>& v, const char* unit) {
+        f.write(g + "/" + p, v, {n, 3});
+        f.set_attr(g + "/" + p, "unit", unit);
+    };
+    put("displacement", c.u, "m");
+    put("velocity", c.v, "m s-1");
+    put("force_density", c.f, "N m-3");
+    f.write(g + "/bond_alive", c.alive);
+    f.set_attr(g + "/bond_alive", "unit", "1");
+    f.set_attr(g, "step", c.step);
+    f.set_attr(g, "time", c.time);
+    f.set_attr(g, "dt", c.dt);
+    f.set_attr(g, "broken_total", c.broken_total);
+    f.set_attr(g, "complete", std::int32_t{1});
+    f.flush();
+    f.set_attr(root, "latest", name);
+    f.flush();
+    for (const auto& old : f.list(root))
+        if (old != name)
+            f.remove(root + "/" + old);
+    f.flush();
+}
+
+std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t num_nodes,
+                                                 std::size_t num_bonds) {
+    const std::string root = path::checkpoints;
+    if (!f.exists(root) || !f.has_attr(root, "latest"))
+        return std::nullopt;
+    const std::string g = root + "/" + f.attr_string(root, "latest");
+    if (!f.exists(g) || !f.has_attr(g, "complete"))
+        throw SchemaError(f.name(), g, "the latest checkpoint is missing or incomplete");
+    Checkpoint c;
+    c.step = f.attr<std::int64_t>(g, "step");
+    c.time = f.attr<double>(g, "time");
+    c.dt = f.attr<double>(g, "dt");
+    c.broken_total = f.attr<std::int64_t>(g, "broken_total");
+    auto get3 = [&](const std::string& p) {
+        h5::dims_t d;
+        auto v = f.read<double>(g + "/" + p, &d);
+        if (d.size() != 2 || d[0] != num_nodes || d[1] != 3)
+            throw SchemaError(f.name(), g + "/" + p,
+                              fmt::format("expected shape ({}, 3) (the file's node count)",
+                                          num_nodes));
+        return v;
+    };
+    c.u = get3("displacement");
+    c.v = get3("velocity");
+    c.f = get3("force_density");
+    c.alive = f.read<std::uint8_t>(g + "/bond_alive");
+    if (c.alive.size() != num_bonds)
+        throw SchemaError(f.name(), g + "/bond_alive",
+                          fmt::format("has {} entries, expected {} bonds", c.alive.size(),
+                                      num_bonds));
+    return c;
+}
+
+} // namespace pd::store

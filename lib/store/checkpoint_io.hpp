@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// /checkpoints/step_<N>: everything a restart needs to continue bit for bit (spec decision 5):
+// step, time, dt, displacement, velocity, force density, bond state, broken-bond count. A
+// checkpoint is written completely and flushed before /checkpoints@latest names it; the
+// previous one is deleted only after that, so a crash mid-write leaves the previous one valid.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pd::h5 {
+class File;
+}
+
+namespace pd::store {
+
+struct Checkpoint {
+    std::int64_t step = 0;
+    double time = 0;                 ///< s
+    double dt = 0;                   ///< s
+    std::vector<double> u, v, f;     ///< 3 per node: m, m s-1, N m-3 (force density)
+    std::vector<std::uint8_t> alive; ///< per bond (full CSR list)
+    std::int64_t broken_total = 0;   ///< broken bonds counted from both ends
+};
+
+/// Writes `c` as /checkpoints/step_<N>, then points @latest at it and deletes older ones.
+void write_checkpoint(h5::File& f, const Checkpoint& c);
+
+/// The latest complete checkpoint, checked against `num_nodes` and `num_bonds`; nullopt if none.
+std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t num_nodes,
+                                                 std::size_t num_bonds);
+
+} // namespace pd::store
