@@ -2,6 +2,7 @@
 #include "mesh/gmsh_mesher.hpp"
 
 #include "core/errors.hpp"
+#include "mesh/gmsh_session.hpp"
 
 #include <gmsh.h>
 
@@ -10,19 +11,6 @@
 namespace pd::mesh {
 
 namespace {
-
-/// RAII gmsh initialise/finalise, silenced. gmsh holds global state: one session at a time.
-class GmshSession {
-  public:
-    GmshSession() {
-        gmsh::initialize(0, nullptr, false);
-        gmsh::option::setNumber("General.Terminal", 0);
-        gmsh::option::setNumber("General.Verbosity", 1);
-    }
-    ~GmshSession() { gmsh::finalize(); }
-    GmshSession(const GmshSession&) = delete;
-    GmshSession& operator=(const GmshSession&) = delete;
-};
 
 /// Nodes and linear triangles of the current 2D model, renumbered from 0.
 model::RefMesh collect_triangles(const std::string& name) {

@@ -16,8 +16,13 @@ using offset_t = std::int64_t;
 
 enum class BodyKind : std::uint8_t { particle = 0, wall = 1 };
 
-/// Peridynamic constitutive law. PMB: bond-based prototype microelastic brittle (spec 1.5).
-enum class Law : std::uint8_t { pmb = 0 };
+/// Peridynamic constitutive law. PMB: bond-based prototype microelastic brittle (spec 1.5);
+/// LPS: ordinary state-based linear peridynamic solid (PeriDEM's PDState, spec 1.3), with
+/// consistent 2D constants.
+enum class Law : std::uint8_t { pmb = 0, lps = 1 };
+
+/// Influence function J(r / delta) of the state-based law (spec 1.1; only its shape matters).
+enum class Influence : std::uint8_t { constant = 0, linear = 1, gaussian = 2 };
 
 /// Planar assumption of a 2D run. pdgrain's 2D PMB uses plane stress (nu = 1/3), stated in files.
 enum class Planar : std::uint8_t { plane_stress = 0, plane_strain = 1 };
@@ -31,6 +36,7 @@ struct Material {
     double youngs_modulus = 0;  ///< Pa
     double poisson_ratio = 0;   ///< 1 (bond-based: fixed by the law, 1/3 plane stress, 1/4 3D)
     double fracture_energy = 0; ///< Gc, J m-2; 0 = unbreakable
+    Influence influence = Influence::constant; ///< LPS only (PMB uses J = 1)
     double bulk_modulus() const; ///< K, Pa, from E and nu
     bool breakable() const { return fracture_energy > 0; }
 };

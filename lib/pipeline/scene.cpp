@@ -179,21 +179,35 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     for (auto it = root["materials"].begin(); it != root["materials"].end(); ++it) {
         const std::string w = "materials." + it.key();
         check_keys(*it, w, {"law", "density", "youngs_modulus", "fracture_energy",
-                            "poisson_ratio"});
+                            "poisson_ratio", "influence"});
         model::Material mat;
         mat.name = it.key();
         for (char ch : mat.name)
             if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'))
                 throw ConfigError(w, "material names may hold letters, digits and '_' only");
-        text(*it, w, "law", "pmb", {"pmb"});
-        mat.law = model::Law::pmb;
+        mat.law = text(*it, w, "law", "pmb", {"pmb", "lps"}) == "lps" ? model::Law::lps
+                                                                       : model::Law::pmb;
+        const auto inf = text(*it, w, "influence", mat.law == model::Law::lps ? "linear"
+                                                                              : "constant",
+                              {"constant", "linear", "gaussian"});
+        mat.influence = inf == "linear"     ? model::Influence::linear
+                        : inf == "gaussian" ? model::Influence::gaussian
+                                            : model::Influence::constant;
+        if (mat.law == model::Law::pmb && mat.influence != model::Influence::constant)
+            throw ConfigError(w + ".influence", "the PMB law uses J = 1 (constant); influence "
+                                                "functions apply to law \"lps\"");
         mat.density = positive(*it, w, "density", 0, true);
         mat.youngs_modulus = positive(*it, w, "youngs_modulus", 0, true);
         mat.fracture_energy = number(*it, w, "fracture_energy", 0);
         if (mat.fracture_energy < 0)
             throw ConfigError(w + ".fracture_energy", "must be >= 0 (0 = unbreakable)");
-        mat.poisson_ratio = model::pmb_poisson_ratio(m.dimension, m.planar);
-        if (it->contains("poisson_ratio") &&
+        if (mat.law == model::Law::lps) {
+            mat.poisson_ratio = number(*it, w, "poisson_ratio", 0.25, true);
+            if (!(mat.poisson_ratio > -1 && mat.poisson_ratio < 0.5))
+                throw ConfigError(w + ".poisson_ratio", "must be in (-1, 0.5)");
+        } else
+            mat.poisson_ratio = model::pmb_poisson_ratio(m.dimension, m.planar);
+        if (mat.law == model::Law::pmb && it->contains("poisson_ratio") &&
             std::abs(number(*it, w, "poisson_ratio", 0) - mat.poisson_ratio) > 1e-12)
             throw ConfigError(w + ".poisson_ratio",
                               fmt::format("the bond-based PMB law fixes nu = {:.4g} ({}); omit "

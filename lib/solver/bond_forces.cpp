@@ -23,11 +23,13 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
 #pragma omp parallel for schedule(static) reduction(+ : energy, broken) if (n > parallel_min)
     for (std::int64_t i = 0; i < n; ++i) {
         double fi[3] = {0, 0, 0};
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+        if (law.lps[body])
+            continue; // the LPS kernel owns this row
         if (!s.moving[static_cast<std::size_t>(i)]) {
             f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
             continue;
         }
-        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         const double c = law.c[body];
         const double s0 = law.s0[body];
         const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
@@ -62,7 +64,114 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     return {energy, broken};
 }
 
+
+template <bool Breakable>
+BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
+    const auto n = static_cast<std::int64_t>(s.n);
+    const double* x = s.x.data();
+    const double* vol = s.vol.data();
+    double* f = s.f.data();
+    const offset_t* off = b.offsets.data();
+    const index_t* nb = b.neighbor.data();
+    const double* xi = b.xi.data();
+    const double* beta = b.beta.data();
+    const double* om = b.omega.data();
+    std::uint8_t* alive = b.alive.data();
+    const double dd = law.dimension;
+    double* theta = law.theta.data();
+    const double* mw = law.m.data();
+    std::int64_t broken = 0;
+    // Pass 1: break bonds (tension only, symmetric inputs), then dilatation.
+#pragma omp parallel for schedule(static) reduction(+ : broken) if (n > parallel_min)
+    for (std::int64_t i = 0; i < n; ++i) {
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+        if (!law.lps[body] || !s.moving[static_cast<std::size_t>(i)]) {
+            theta[i] = 0;
+            continue;
+        }
+        const double s0 = law.s0[body];
+        double th = 0;
+        for (offset_t k = off[i]; k < off[i + 1]; ++k) {
+            if (Breakable && !alive[k])
+                continue;
+            const index_t j = nb[k];
+            const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
+                         d2 = x[3 * j + 2] - x[3 * i + 2];
+            const double e = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) - xi[k];
+            if constexpr (Breakable) {
+                if (e / xi[k] > s0) {
+                    alive[k] = 0;
+                    ++broken;
+                    continue;
+                }
+            }
+            th += om[k] * xi[k] * e * beta[k] * vol[j];
+        }
+        theta[i] = dd * th / mw[i];
+    }
+    // Pass 2: forces from both ends of every intact bond.
+    double energy = 0;
+#pragma omp parallel for schedule(static) reduction(+ : energy) if (n > parallel_min)
+    for (std::int64_t i = 0; i < n; ++i) {
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+        if (!law.lps[body])
+            continue;
+        if (!s.moving[static_cast<std::size_t>(i)]) {
+            f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
+            continue;
+        }
+        const double kap = law.kappa[body], mu = law.mu[body];
+        const double a_i = law.alpha * mu / mw[i];
+        const double p_i = dd * kap * theta[i] / mw[i];
+        double fi[3] = {0, 0, 0}, wdev = 0;
+        for (offset_t k = off[i]; k < off[i + 1]; ++k) {
+            if (Breakable && !alive[k])
+                continue;
+            const index_t j = nb[k];
+            const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
+                         d2 = x[3 * j + 2] - x[3 * i + 2];
+            const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            const double e = l - xi[k];
+            const double ed_i = e - theta[i] * xi[k] / dd;
+            const double ed_j = e - theta[j] * xi[k] / dd;
+            const double t_ij = om[k] * (p_i * xi[k] + a_i * ed_i);
+            const double t_ji =
+                om[k] * (dd * kap * theta[j] / mw[j] * xi[k] + law.alpha * mu / mw[j] * ed_j);
+            const double a = (t_ij + t_ji) * beta[k] * vol[j] / l;
+            fi[0] += a * d0;
+            fi[1] += a * d1;
+            fi[2] += a * d2;
+            wdev += om[k] * ed_i * ed_i * beta[k] * vol[j];
+        }
+        f[3 * i] = fi[0];
+        f[3 * i + 1] = fi[1];
+        f[3 * i + 2] = fi[2];
+        energy += (0.5 * kap * theta[i] * theta[i] + 0.5 * a_i * wdev) * vol[i];
+    }
+    return {energy, broken};
+}
+
 } // namespace
+
+void lps_weighted_volume(const State& s, const BondData& b, BodyLaw& law) {
+    law.m.assign(s.n, 0.0);
+    law.theta.assign(s.n, 0.0);
+    for (std::size_t i = 0; i < s.n; ++i) {
+        if (!law.lps[static_cast<std::size_t>(s.body[i])])
+            continue;
+        double m = 0;
+        for (auto k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            m += b.omega[kk] * b.xi[kk] * b.xi[kk] * b.beta[kk] *
+                 s.vol[static_cast<std::size_t>(b.neighbor[kk])];
+        }
+        law.m[i] = m > 0 ? m : 1.0; // a node with no bond has theta = 0 and no force
+    }
+}
+
+BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law) {
+    return law.any_breakable ? lps_kernel<true>(s, b, law) : lps_kernel<false>(s, b, law);
+}
 
 BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law) {
     return law.any_breakable ? kernel<true>(s, b, law) : kernel<false>(s, b, law);

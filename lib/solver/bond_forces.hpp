@@ -17,6 +17,13 @@ struct BondResult {
 /// model/pmb.hpp.
 BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law);
 
+/// Sets f = LPS force density of every node of a moving LPS body (spec 1.3, model/lps.hpp),
+/// two passes: dilatation (and bond breaking), then forces. Rows of PMB bodies are untouched.
+BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law);
+
+/// Weighted volumes m_i = sum_j w xi^2 beta V_j of LPS nodes (once, at start).
+void lps_weighted_volume(const State& s, const BondData& b, BodyLaw& law);
+
 /// Damage phi_i = sum of beta V_j over broken bonds / sum over all bonds (spec decision 4).
 void damage_phi(const State& s, const BondData& b, std::vector<double>& phi);
 

@@ -2,6 +2,7 @@
 #include "solver/solver.hpp"
 
 #include "core/errors.hpp"
+#include "model/lps.hpp"
 #include "model/pmb.hpp"
 #include "solver/bond_forces.hpp"
 
@@ -99,12 +100,43 @@ Solver::Solver(const model::Model& m) : m_(m) {
     }
     law_.c.resize(nb);
     law_.s0.resize(nb);
+    law_.lps.assign(nb, 0);
+    law_.kappa.assign(nb, 0.0);
+    law_.mu.assign(nb, 0.0);
+    law_.dimension = m.dimension;
+    law_.alpha = m.dimension == 3 ? 15.0 : 8.0;
     for (std::size_t b = 0; b < nb; ++b) {
         const auto& mat = m.materials[static_cast<std::size_t>(m.bodies.material[b])];
-        auto k = model::pmb_constants(mat, m.bodies.horizon[b], m.dimension, m.planar);
-        law_.c[b] = k.c;
-        law_.s0[b] = k.s0;
-        law_.any_breakable = law_.any_breakable || (std::isfinite(k.s0) && !m.bodies.fixed[b]);
+        if (mat.law == model::Law::lps) {
+            auto k = model::lps_constants(mat, m.bodies.horizon[b], m.dimension, m.planar);
+            law_.lps[b] = 1;
+            law_.kappa[b] = k.kappa;
+            law_.mu[b] = k.mu;
+            law_.s0[b] = k.s0;
+            // Bond-based micromodulus of the same Young's modulus: for the dt estimate only.
+            law_.c[b] = model::pmb_constants(mat, m.bodies.horizon[b], m.dimension, m.planar).c;
+            law_.any_lps = law_.any_lps || !m.bodies.fixed[b];
+        } else {
+            auto k = model::pmb_constants(mat, m.bodies.horizon[b], m.dimension, m.planar);
+            law_.c[b] = k.c;
+            law_.s0[b] = k.s0;
+            law_.any_pmb = law_.any_pmb || !m.bodies.fixed[b];
+        }
+        law_.any_breakable =
+            law_.any_breakable || (std::isfinite(law_.s0[b]) && !m.bodies.fixed[b]);
+    }
+    if (law_.any_lps) {
+        b_.omega.resize(b_.neighbor.size());
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto b = static_cast<std::size_t>(s_.body[i]);
+            const auto inf =
+                m.materials[static_cast<std::size_t>(m.bodies.material[b])].influence;
+            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                b_.omega[kk] = model::influence(inf, b_.xi[kk] / m.bodies.horizon[b]);
+            }
+        }
+        lps_weighted_volume(s_, b_, law_);
     }
     for (int d = 0; d < 3; ++d)
         g_[d] = m.loading.gravity[static_cast<std::size_t>(d)];
@@ -177,9 +209,17 @@ StableDt Solver::stable_dt() const {
 void Solver::compute_forces() {
     {
         ScopedTimer t(timers_, t_bonds_);
-        auto res = pmb_bond_forces(s_, b_, law_);
-        elastic_energy_ = res.elastic_energy;
-        broken_total_ += res.newly_broken;
+        elastic_energy_ = 0;
+        if (law_.any_pmb || !law_.any_lps) {
+            auto res = pmb_bond_forces(s_, b_, law_);
+            elastic_energy_ += res.elastic_energy;
+            broken_total_ += res.newly_broken;
+        }
+        if (law_.any_lps) {
+            auto res = lps_bond_forces(s_, b_, law_);
+            elastic_energy_ += res.elastic_energy;
+            broken_total_ += res.newly_broken;
+        }
     }
     if (contact_->active()) {
         {

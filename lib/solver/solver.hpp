@@ -54,6 +54,8 @@ class Solver {
     const State& state() const { return s_; }
     const BondData& bonds() const { return b_; }
     BondData& bonds() { return b_; }
+    /// LPS dilatation theta per node (0 for PMB nodes) at the last force evaluation.
+    const std::vector<double>& dilatation() const { return law_.theta; }
     /// phi per node.
     void damage(std::vector<double>& phi) const;
     /// Nodal force f V (N) per node, 3 per node.

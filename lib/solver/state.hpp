@@ -39,14 +39,24 @@ struct BondData {
     std::vector<index_t> neighbor;
     std::vector<double> xi;          ///< reference bond length, m
     std::vector<double> beta;        ///< partial-volume factor (spec 1.3)
+    std::vector<double> omega;       ///< influence J(xi / delta) (state-based law; else empty)
     std::vector<std::uint8_t> alive; ///< 1 intact, 0 broken
 };
 
 /// Per-body constants of the bond law (bonds never cross bodies).
 struct BodyLaw {
-    std::vector<double> c;  ///< PMB micromodulus, N m-6
-    std::vector<double> s0; ///< critical stretch (inf = unbreakable)
+    std::vector<std::uint8_t> lps; ///< 1 = LPS body, 0 = PMB body
+    std::vector<double> c;     ///< PMB micromodulus, N m-6
+    std::vector<double> s0;    ///< critical stretch (inf = unbreakable)
+    std::vector<double> kappa; ///< LPS bulk modulus of the d-dimensional problem, Pa
+    std::vector<double> mu;    ///< LPS shear modulus, Pa
+    double alpha = 15;         ///< LPS shear factor: 15 (3D), 8 (2D)
+    int dimension = 2;
     bool any_breakable = false;
+    bool any_pmb = false;
+    bool any_lps = false;
+    std::vector<double> m;     ///< LPS weighted volume per node, m^(d+2)
+    std::vector<double> theta; ///< LPS dilatation per node (work array)
 };
 
 } // namespace pd::solver

@@ -73,7 +73,13 @@ void require_range(const h5::File& f, const std::string& p, const std::vector<T>
                               fmt::format("entry {} = {} outside [{}, {})", i, v[i], lo, hi));
 }
 
-const char* law_name(model::Law) { return "pmb"; }
+const char* law_name(model::Law l) { return l == model::Law::lps ? "lps" : "pmb"; }
+
+const char* influence_name(model::Influence f) {
+    return f == model::Influence::linear     ? "linear"
+           : f == model::Influence::gaussian ? "gaussian"
+                                             : "constant";
+}
 
 } // namespace
 
@@ -108,6 +114,7 @@ void write_model(h5::File& f, const model::Model& m) {
         const std::string g = std::string(path::materials) + "/" + mat.name;
         f.create_group(g);
         f.set_attr(g, "law", law_name(mat.law));
+        f.set_attr(g, "influence", influence_name(mat.influence));
         f.set_attr(g, "index", static_cast<std::int32_t>(k));
         put_scalar(f, g + "/density", mat.density, "kg m-3");
         put_scalar(f, g + "/youngs_modulus", mat.youngs_modulus, "Pa");
@@ -275,8 +282,16 @@ model::Model read_model(const h5::File& f) {
             throw SchemaError(f.name(), g, fmt::format("index {} out of range", k));
         auto& mat = m.materials[static_cast<std::size_t>(k)];
         mat.name = name;
-        if (f.attr_string(g, "law") != "pmb")
-            throw SchemaError(f.name(), g, "law '" + f.attr_string(g, "law") + "' unknown");
+        const auto law = f.attr_string(g, "law");
+        if (law != "pmb" && law != "lps")
+            throw SchemaError(f.name(), g, "law '" + law + "' unknown (pmb, lps)");
+        mat.law = law == "lps" ? model::Law::lps : model::Law::pmb;
+        const auto inf = f.has_attr(g, "influence") ? f.attr_string(g, "influence") : "constant";
+        if (inf != "constant" && inf != "linear" && inf != "gaussian")
+            throw SchemaError(f.name(), g, "influence '" + inf + "' unknown");
+        mat.influence = inf == "linear"     ? model::Influence::linear
+                        : inf == "gaussian" ? model::Influence::gaussian
+                                            : model::Influence::constant;
         mat.density = get_scalar<double>(f, g + "/density");
         mat.youngs_modulus = get_scalar<double>(f, g + "/youngs_modulus");
         mat.poisson_ratio = get_scalar<double>(f, g + "/poisson_ratio");

@@ -2,9 +2,8 @@
 // Packing: no two grains overlap (brute force), every grain lies inside its container, the same
 // seed reproduces the output bit for bit, PeriDEM's n500 scene and 10 000 grains pack quickly;
 // lattices and the particle CSV format.
-#include "geometry/packing.hpp"
-
 #include "core/errors.hpp"
+#include "geometry/packing.hpp"
 
 #include <gtest/gtest.h>
 
@@ -160,8 +159,8 @@ TEST(Packing, DenseSceneNeedsRelaxation) {
     o.attempts_per_grain = 200;
     PackStats st;
     const auto g = random_pack(box, o, &st);
-    std::printf("[ dense    ] phi %.3f, rsa %zu, relaxed %zu in %zu sweeps\n",
-                st.packing_fraction, st.placed_by_rsa, st.relaxed, st.sweeps);
+    std::printf("[ dense    ] phi %.3f, rsa %zu, relaxed %zu in %zu sweeps\n", st.packing_fraction,
+                st.placed_by_rsa, st.relaxed, st.sweeps);
     EXPECT_GT(st.relaxed, 0u);
     expect_no_overlap(g, 0);
     expect_inside(box, g, 0);

@@ -2,10 +2,9 @@
 // Every shape meshed once with gmsh: lumped nodal volumes sum to the exact area/volume within 1%
 // and their weighted node centroid matches the shape's; the centre node; quadrangles; uniform
 // lattices (PeriDEM's boundary weights); .msh files (2.2, 4.1); exact instance transforms.
-#include "mesh/shape_mesher.hpp"
-
 #include "core/errors.hpp"
 #include "mesh/discretize.hpp"
+#include "mesh/shape_mesher.hpp"
 
 #include <gtest/gtest.h>
 
@@ -42,16 +41,16 @@ std::vector<Case> all_shapes() {
         {"pentagon", Shape::regular_polygon(5, r), 0.2 * mm},
         {"rectangle", Shape::rectangle(3 * r, r), 0.2 * mm},
         {"drum2d", Shape::drum2d(r, 0.4 * r), 0.1 * mm},
-        {"polygon_L", Shape::polygon({{0, 0}, {0, 2 * r}, {r, 2 * r}, {r, r}, {2 * r, r},
-                                      {2 * r, 0}}),
+        {"polygon_L",
+         Shape::polygon({{0, 0}, {0, 2 * r}, {r, 2 * r}, {r, r}, {2 * r, r}, {2 * r, 0}}),
          0.2 * mm},
         {"hexagon_moved", Shape::hexagon(r).rotated(0.3).translated(2 * r, -r), 0.2 * mm},
         {"annulus", ring, 0.25 * mm},
         {"annulus_bar", Shape::unite({ring, bar}), 0.25 * mm},
         {"u_channel",
-         Shape::difference(Shape::rectangle_corners(-0.82 * mm, -0.82 * mm, 69.32 * mm, 41.82 * mm),
-                           {Shape::rectangle_corners(-0.22 * mm, -0.22 * mm, 68.72 * mm,
-                                                     41.82 * mm)}),
+         Shape::difference(
+             Shape::rectangle_corners(-0.82 * mm, -0.82 * mm, 69.32 * mm, 41.82 * mm),
+             {Shape::rectangle_corners(-0.22 * mm, -0.22 * mm, 68.72 * mm, 41.82 * mm)}),
          0.2 * mm},
         {"two_discs", Shape::unite({Shape::circle(r), Shape::circle(r).translated(r, 0)}),
          0.2 * mm},
@@ -79,13 +78,12 @@ TEST(ShapeMesh, VolumesAndCentroidOfEveryShape) {
         }
         const double exact = c.shape.area_or_volume();
         const auto g = c.shape.centroid();
-        const double cerr =
-            std::sqrt(std::pow(cx / sum - g[0], 2) + std::pow(cy / sum - g[1], 2) +
-                      std::pow(cz / sum - g[2], 2)) /
-            c.shape.bounding_radius();
+        const double cerr = std::sqrt(std::pow(cx / sum - g[0], 2) + std::pow(cy / sum - g[1], 2) +
+                                      std::pow(cz / sum - g[2], 2)) /
+                            c.shape.bounding_radius();
         std::printf("[ shapes   ] %-14s %7zu %7zu %12.3e %12.3e\n", c.label, v.size(),
-                    m.cells.size() / static_cast<std::size_t>(m.nodes_per_cell),
-                    sum / exact - 1, cerr);
+                    m.cells.size() / static_cast<std::size_t>(m.nodes_per_cell), sum / exact - 1,
+                    cerr);
         EXPECT_NEAR(sum / exact, 1.0, 0.01) << c.label;
         EXPECT_LT(cerr, 0.01) << c.label;
         // Nodes lie in the shape (up to the conservative polygonal clearance of curved CSG).
@@ -359,7 +357,8 @@ TEST(Instances, RotationScaleTranslationExact) {
         const double X = m.nodes[i], Y = m.nodes[i + 1];
         EXPECT_NEAR(x[i], t[0] + s * (c * X - sn * Y), 1e-18);
         EXPECT_NEAR(x[i + 1], t[1] + s * (sn * X + c * Y), 1e-18);
-        EXPECT_NEAR(std::hypot(x[i] - t[0], x[i + 1] - t[1]), s * std::hypot(X, Y), 1e-18);
+        // Exact up to the rounding of x - t (|t| = 0.03 m: ulp 3.5e-18 m).
+        EXPECT_NEAR(std::hypot(x[i] - t[0], x[i + 1] - t[1]), s * std::hypot(X, Y), 1e-16);
         EXPECT_GE(placed.clearance(x[i], x[i + 1]), -1e-15);
     }
     // Volumes scale by s^2; the centre node lands on t.

@@ -66,6 +66,7 @@ TEST(Pmb, TwoNodeBondForce) {
     b.beta = {1, 1};
     b.alive = {1, 1};
     solver::BodyLaw law;
+    law.lps = {0};
     law.c = {2.5e20};
     law.s0 = {0.05};
     law.any_breakable = true;
@@ -98,7 +99,11 @@ TEST(Pmb, BreakingIsSymmetricAndTensionOnly) {
     b.xi = {r, r};
     b.beta = {1, 1};
     b.alive = {1, 1};
-    solver::BodyLaw law{{1e20}, {0.01}, true};
+    solver::BodyLaw law;
+    law.lps = {0};
+    law.c = {1e20};
+    law.s0 = {0.01};
+    law.any_breakable = true;
     s.x = {0, 0, 0, r * 0.9, 0, 0}; // compression 10%
     solver::pmb_bond_forces(s, b, law);
     EXPECT_EQ(b.alive[0] + b.alive[1], 2);

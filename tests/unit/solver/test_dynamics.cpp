@@ -121,3 +121,47 @@ TEST(Dynamics, StableDtShrinksWithStiffness) {
 }
 
 } // namespace
+
+namespace {
+
+/// LPS under a homogeneous strain. Isotropic strain: the dilatation of every node whose horizon
+/// is inside the body equals tr(eps) exactly (tests the 2D prefactor d/m). General strain: the
+/// neighbourhoods of an unstructured mesh are not isotropic, so theta matches tr(eps) on average.
+TEST(Lps, DilatationOfHomogeneousStrain) {
+    const std::string sc = R"({"dimension": 2, "planar": "plane_strain",
+      "materials": {"m": {"law": "lps", "density": 1000, "youngs_modulus": 1e9,
+                          "poisson_ratio": 0.3}},
+      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+      "particles": [{"radius": 2e-3, "center": [0, 0], "material": "m"}],
+      "solver": {"final_time": 1}})";
+    auto m = pipeline::build_scene(sc, "t", quiet);
+    const double delta = m.bodies.horizon[0];
+    for (const auto& eps : {std::array<double, 3>{1e-4, 1e-4, 0}, {1e-4, -0.5e-4, 0.3e-4}}) {
+        const double exx = eps[0], eyy = eps[1], exy = eps[2];
+        solver::Solver s(m);
+        auto& st = s.state();
+        for (std::size_t i = 0; i < st.n; ++i) {
+            const double X = st.x0[3 * i], Y = st.x0[3 * i + 1];
+            st.x[3 * i] = X + exx * X + exy * Y;
+            st.x[3 * i + 1] = Y + exy * X + eyy * Y;
+        }
+        s.initialize();
+        const auto& theta = s.dilatation();
+        double worst = 0, mean = 0;
+        int interior = 0;
+        for (std::size_t i = 0; i < st.n; ++i)
+            if (std::hypot(st.x0[3 * i], st.x0[3 * i + 1]) < 2e-3 - delta) {
+                worst = std::max(worst, std::abs(theta[i] / (exx + eyy) - 1));
+                mean += theta[i] / (exx + eyy);
+                ++interior;
+            }
+        mean /= interior;
+        EXPECT_GT(interior, 100);
+        if (exy == 0 && exx == eyy)
+            EXPECT_LT(worst, 1e-9);
+        else
+            EXPECT_NEAR(mean, 1.0, 0.02);
+    }
+}
+
+} // namespace
