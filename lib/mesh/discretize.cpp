@@ -4,6 +4,8 @@
 #include "core/errors.hpp"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <limits>
 
@@ -57,6 +59,54 @@ double min_edge_length(const model::RefMesh& m) {
             for (std::size_t b = a + 1; b < npc; ++b)
                 h = std::min(h, dist(node(m, m.cells[c + a]), node(m, m.cells[c + b])));
     return h;
+}
+
+std::vector<double> boundary_distance(const model::RefMesh& m, int dimension) {
+    const std::size_t n = m.nodes.size() / 3;
+    const auto npc = static_cast<std::size_t>(m.nodes_per_cell);
+    if (m.cells.empty() || npc < 3)
+        return std::vector<double>(n, 0.0);
+    // Facets as sorted vertex tuples; a facet seen once is on the boundary.
+    std::map<std::array<std::int32_t, 3>, int> count;
+    auto add = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
+        std::array<std::int32_t, 3> k{a, b, c};
+        std::sort(k.begin(), k.end());
+        ++count[k];
+    };
+    for (std::size_t c = 0; c + npc <= m.cells.size(); c += npc) {
+        const std::int32_t* v = &m.cells[c];
+        if (dimension == 2) {
+            for (std::size_t e = 0; e < npc; ++e) // edges of a triangle or quad, in order
+                add(-1, v[e], v[(e + 1) % npc]);
+        } else if (npc == 4) {
+            add(v[0], v[1], v[2]);
+            add(v[0], v[1], v[3]);
+            add(v[0], v[2], v[3]);
+            add(v[1], v[2], v[3]);
+        } else {
+            return std::vector<double>(n, 0.0);
+        }
+    }
+    std::vector<std::uint8_t> boundary(n, 0);
+    for (const auto& [k, c] : count)
+        if (c == 1)
+            for (auto v : k)
+                if (v >= 0)
+                    boundary[static_cast<std::size_t>(v)] = 1;
+    std::vector<std::int32_t> bnodes;
+    for (std::size_t i = 0; i < n; ++i)
+        if (boundary[i])
+            bnodes.push_back(static_cast<std::int32_t>(i));
+    std::vector<double> out(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (boundary[i])
+            continue;
+        double d = std::numeric_limits<double>::infinity();
+        for (auto b : bnodes)
+            d = std::min(d, dist(&m.nodes[3 * i], &m.nodes[3 * static_cast<std::size_t>(b)]));
+        out[i] = d;
+    }
+    return out;
 }
 
 double bounding_radius(const model::RefMesh& m) {

@@ -18,6 +18,12 @@ std::vector<double> lumped_volumes(const model::RefMesh& m, int dimension);
 /// O(cells) instead of O(n^2).
 double min_edge_length(const model::RefMesh& m);
 
+/// Distance of every node to the nearest boundary node (m, reference coordinates), boundary
+/// nodes being the vertices of facets used by one cell only (edges in 2D, faces in 3D); 0 for
+/// every node of a mesh without cells. Nodes within the contact radius of the boundary are the
+/// ones that take part in contact.
+std::vector<double> boundary_distance(const model::RefMesh& m, int dimension);
+
 /// Maximum distance of a node from the origin.
 double bounding_radius(const model::RefMesh& m);
 

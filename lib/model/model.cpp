@@ -37,6 +37,7 @@ void Model::check_consistency() const {
     same(bodies.horizon.size(), nb, "bodies.horizon");
     same(nodes.x0.size(), 3 * n, "nodes.x0");
     same(nodes.body.size(), n, "nodes.body");
+    PD_CHECK(nodes.surface.empty() || nodes.surface.size() == n, "nodes.surface size");
     PD_CHECK(bodies.node_offsets.front() == 0 &&
                  bodies.node_offsets.back() == static_cast<offset_t>(n),
              "body offsets must span all nodes");

@@ -74,6 +74,7 @@ struct Nodes {
     std::vector<double> x0;          ///< reference position, 3 per node, m
     std::vector<double> volume;      ///< m3 (2D: area x unit thickness)
     std::vector<std::int32_t> body;  ///< owning body
+    std::vector<std::uint8_t> surface; ///< 1 = may touch another body (near the boundary)
     std::size_t num() const { return volume.size(); }
 };
 

@@ -491,6 +491,22 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         }
     }
 
+    // Contact-capable nodes: within the largest contact radius (plus a mesh spacing for grains
+    // that deform) of their grain's boundary. Interior nodes never search for contact.
+    {
+        double rc_max = 0;
+        for (const auto& p : m.contact)
+            rc_max = std::max(rc_max, p.radius);
+        const auto bd = mesh::boundary_distance(ref, m.dimension);
+        m.nodes.surface.resize(m.nodes.num());
+        for (std::size_t b = 0; b < B.num(); ++b)
+            for (auto i = B.begin(b); i < B.end(b); ++i) {
+                const auto k = static_cast<std::size_t>(i - B.begin(b));
+                m.nodes.surface[static_cast<std::size_t>(i)] =
+                    bd[k] * B.scale[b] <= rc_max + B.mesh_size[b] ? 1 : 0;
+            }
+    }
+
     // Loading.
     const json& ld = root.contains("loading") ? root["loading"] : empty;
     check_keys(ld, "loading", {"gravity", "viscous_damping", "conditions"});

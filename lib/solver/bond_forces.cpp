@@ -34,12 +34,21 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
         const double s0 = law.s0[body];
         const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
         double e_i = 0;
+        const double kr = law.krep[body], rr = law.rrep[body];
         for (offset_t k = off[i]; k < off[i + 1]; ++k) {
-            if (Breakable && !alive[k])
-                continue;
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            if (Breakable && !alive[k]) {
+                // Fragments of one grain repel across broken bonds (spec 4.7).
+                if (l < rr) {
+                    const double a = kr * (l - rr) * vol[j] / l;
+                    fi[0] += a * d0;
+                    fi[1] += a * d1;
+                    fi[2] += a * d2;
+                }
+                continue;
+            }
             const double st = (l - xi[k]) / xi[k];
             if constexpr (Breakable) {
                 if (st > s0) { // tension only; i->j and j->i see identical l, xi: symmetric
@@ -124,13 +133,21 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
         const double a_i = law.alpha * mu / mw[i];
         const double p_i = dd * kap * theta[i] / mw[i];
         double fi[3] = {0, 0, 0}, wdev = 0;
+        const double kr = law.krep[body], rr = law.rrep[body];
         for (offset_t k = off[i]; k < off[i + 1]; ++k) {
-            if (Breakable && !alive[k])
-                continue;
             const index_t j = nb[k];
             const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
                          d2 = x[3 * j + 2] - x[3 * i + 2];
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            if (Breakable && !alive[k]) {
+                if (l < rr) { // fragments repel across broken bonds (spec 4.7)
+                    const double a = kr * (l - rr) * vol[j] / l;
+                    fi[0] += a * d0;
+                    fi[1] += a * d1;
+                    fi[2] += a * d2;
+                }
+                continue;
+            }
             const double e = l - xi[k];
             const double ed_i = e - theta[i] * xi[k] / dd;
             const double ed_j = e - theta[j] * xi[k] / dd;

@@ -26,6 +26,12 @@ ContactList::ContactList(const model::Model& m, double skin)
         any_friction_ = any_friction_ || p.friction > 0;
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
+    eligible_ = m.nodes.surface.empty() ? std::vector<std::uint8_t>(m.nodes.num(), 1)
+                                        : m.nodes.surface;
+}
+
+std::size_t ContactList::num_eligible() const {
+    return static_cast<std::size_t>(std::count(eligible_.begin(), eligible_.end(), 1));
 }
 
 template <bool Friction>
@@ -182,7 +188,8 @@ void ContactList::rebuild(const State& s) {
     for (std::size_t b = 0; b < nb; ++b)
         if (near[b])
             for (auto i = body_offsets_[b]; i < body_offsets_[b + 1]; ++i)
-                active_nodes.push_back(static_cast<index_t>(i));
+                if (eligible_[static_cast<std::size_t>(i)])
+                    active_nodes.push_back(static_cast<index_t>(i));
     // Exact cell keys: integer cell coordinates from the box of the active nodes, 21 bits each.
     double origin[3] = {0, 0, 0};
     if (!active_nodes.empty())
@@ -234,7 +241,7 @@ void ContactList::rebuild(const State& s) {
                         continue;
                     for (index_t j : it->second) {
                         if (s.body[j] == s.body[i])
-                            continue;
+                            continue; // same grain: bonds (and broken-bond repulsion) act there
                         const auto law = law_of_[static_cast<std::size_t>(
                             gi * ngroups_ + body_group_[static_cast<std::size_t>(s.body[j])])];
                         if (law < 0)

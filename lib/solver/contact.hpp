@@ -31,6 +31,16 @@ class ContactList {
 
     /// Rebuilds the candidate list if needed; returns true if it did.
     bool update(const State& s);
+    /// Lets node i take part in contact from the next rebuild on (exposed by damage) and asks
+    /// for a rebuild at the next update().
+    void expose(index_t i) {
+        if (!eligible_[static_cast<std::size_t>(i)]) {
+            eligible_[static_cast<std::size_t>(i)] = 1;
+            built_ = false;
+        }
+    }
+    /// Nodes that take part in contact (near a grain's surface or exposed by damage).
+    std::size_t num_eligible() const;
     /// Adds contact (and Coulomb friction) force densities to s.f; returns the number of node
     /// pairs in contact and their spring energy sum 1/2 Kn (R_c - R)^2 V_i V_j (J). With `normal`,
     /// also lists the normal force of every touching pair (sorted, for grain-level damping).
@@ -60,6 +70,7 @@ class ContactList {
     std::vector<index_t> neighbor_;
     std::vector<std::int32_t> law_;
     std::vector<double> x_build_;
+    std::vector<std::uint8_t> eligible_;
     bool built_ = false;
     bool any_friction_ = false;
     std::int64_t rebuilds_ = 0;

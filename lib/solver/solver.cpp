@@ -104,6 +104,8 @@ Solver::Solver(const model::Model& m) : m_(m) {
     law_.kappa.assign(nb, 0.0);
     law_.mu.assign(nb, 0.0);
     law_.dimension = m.dimension;
+    law_.krep.assign(nb, 0.0);
+    law_.rrep.assign(nb, 0.0);
     law_.alpha = m.dimension == 3 ? 15.0 : 8.0;
     for (std::size_t b = 0; b < nb; ++b) {
         const auto& mat = m.materials[static_cast<std::size_t>(m.bodies.material[b])];
@@ -124,6 +126,9 @@ Solver::Solver(const model::Model& m) : m_(m) {
         }
         law_.any_breakable =
             law_.any_breakable || (std::isfinite(law_.s0[b]) && !m.bodies.fixed[b]);
+        law_.krep[b] = 18.0 * mat.bulk_modulus() /
+                       (M_PI * std::pow(m.bodies.horizon[b], m.dimension + 2));
+        law_.rrep[b] = 0.95 * m.bodies.mesh_size[b];
     }
     if (law_.any_lps) {
         b_.omega.resize(b_.neighbor.size());
@@ -219,6 +224,16 @@ void Solver::compute_forces() {
             auto res = lps_bond_forces(s_, b_, law_);
             elastic_energy_ += res.elastic_energy;
             broken_total_ += res.newly_broken;
+        }
+        if (broken_total_ != exposed_at_) {
+            // Damage exposes interior nodes: they join the contact search.
+            for (std::size_t i = 0; i < s_.n; ++i)
+                for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k)
+                    if (!b_.alive[static_cast<std::size_t>(k)]) {
+                        contact_->expose(static_cast<index_t>(i));
+                        break;
+                    }
+            exposed_at_ = broken_total_;
         }
     }
     if (contact_->active()) {

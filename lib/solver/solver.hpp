@@ -102,6 +102,7 @@ class Solver {
     std::int64_t contact_count_ = 0;
     std::int64_t broken_total_ = 0; ///< from both ends
     std::int64_t precracked_ = 0;
+    std::int64_t exposed_at_ = 0; ///< broken_total_ when damaged nodes were last exposed
     bool initialized_ = false;
     Timers timers_;
     int t_bonds_, t_contact_, t_search_, t_integrate_, t_walls_, t_damping_;

@@ -51,6 +51,8 @@ struct BodyLaw {
     std::vector<double> kappa; ///< LPS bulk modulus of the d-dimensional problem, Pa
     std::vector<double> mu;    ///< LPS shear modulus, Pa
     double alpha = 15;         ///< LPS shear factor: 15 (3D), 8 (2D)
+    std::vector<double> krep;  ///< broken-bond repulsion stiffness 18 K / (pi delta^(d+2)), N m-7
+    std::vector<double> rrep;  ///< broken-bond repulsion radius 0.95 h, m (spec 4.7)
     int dimension = 2;
     bool any_breakable = false;
     bool any_pmb = false;

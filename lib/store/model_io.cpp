@@ -159,6 +159,8 @@ void write_model(h5::File& f, const model::Model& m) {
     put(f, std::string(path::nodes) + "/reference_position", m.nodes.x0, {n, 3}, "m");
     put(f, std::string(path::nodes) + "/volume", m.nodes.volume, {n}, "m3");
     put(f, std::string(path::nodes) + "/body", m.nodes.body, {n}, "1");
+    if (!m.nodes.surface.empty())
+        put(f, std::string(path::nodes) + "/surface", m.nodes.surface, {n}, "1");
     put(f, std::string(path::bonds) + "/offsets", m.bonds.offsets, {n + 1}, "1");
     put(f, std::string(path::bonds) + "/neighbor", m.bonds.neighbor, {m.bonds.num()}, "1");
     // Contact table.
@@ -345,6 +347,8 @@ model::Model read_model(const h5::File& f) {
     const std::uint64_t n = m.nodes.volume.size();
     m.nodes.x0 = get<double>(f, nd + "/reference_position", {n, 3});
     m.nodes.body = get<std::int32_t>(f, nd + "/body", {n});
+    if (f.exists(nd + "/surface"))
+        m.nodes.surface = get<std::uint8_t>(f, nd + "/surface", {n});
     require_range<std::int32_t>(f, nd + "/body", m.nodes.body, 0, static_cast<std::int32_t>(nb));
     for (std::size_t i = 0; i < n; ++i)
         if (!(m.nodes.volume[i] > 0))

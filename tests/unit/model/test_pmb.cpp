@@ -67,6 +67,8 @@ TEST(Pmb, TwoNodeBondForce) {
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};
+    law.krep = {0};
+    law.rrep = {0};
     law.c = {2.5e20};
     law.s0 = {0.05};
     law.any_breakable = true;
@@ -101,6 +103,8 @@ TEST(Pmb, BreakingIsSymmetricAndTensionOnly) {
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};
+    law.krep = {0};
+    law.rrep = {0};
     law.c = {1e20};
     law.s0 = {0.01};
     law.any_breakable = true;
