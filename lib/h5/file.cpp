@@ -325,6 +325,11 @@ std::string File::read_string(const std::string& path) const {
     Handle ft(H5Dget_type(d.get()));
     if (H5Tget_class(ft.get()) != H5T_STRING)
         throw Error(name_, path, "expected a string dataset");
+    {
+        Handle sp(H5Dget_space(d.get()));
+        if (H5Sget_simple_extent_npoints(sp.get()) != 1)
+            throw Error(name_, path, "expected one string, found an array");
+    }
     if (H5Tis_variable_str(ft.get()) > 0) {
         Handle t = vlen_string_type();
         char* p = nullptr;
@@ -511,6 +516,11 @@ std::string File::attr_string(const std::string& path, const std::string& name) 
     Handle ft(H5Aget_type(a.get()));
     if (H5Tget_class(ft.get()) != H5T_STRING)
         throw Error(name_, path, "attribute '" + name + "' is not a string");
+    {
+        Handle sp(H5Aget_space(a.get()));
+        if (H5Sget_simple_extent_npoints(sp.get()) != 1)
+            throw Error(name_, path, "attribute '" + name + "' is an array, expected one string");
+    }
     if (H5Tis_variable_str(ft.get()) > 0) {
         Handle t = vlen_string_type();
         char* p = nullptr;

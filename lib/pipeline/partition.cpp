@@ -14,8 +14,8 @@ namespace pd::pipeline {
 
 void partition(const PartitionOptions& opt, Context& ctx) {
     auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
+    const model::Model m = store::read_model(*f); // refuses a file it cannot read, untouched
     ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
-    const model::Model m = store::read_model(*f);
     if (opt.num_parts < 1)
         throw InputError(fmt::format("-n {}: the number of parts must be at least 1",
                                      opt.num_parts));

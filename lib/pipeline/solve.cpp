@@ -36,7 +36,8 @@ void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<do
 }
 
 std::vector<double> observable_row(const solver::Observables& o) {
-    std::vector<double> r{o.kinetic_energy, o.elastic_energy, o.contact_energy, o.momentum[0],
+    std::vector<double> r{o.kinetic_energy, o.elastic_energy, o.contact_energy, o.external_work,
+                          o.momentum[0],
                           o.momentum[1],    o.momentum[2],    static_cast<double>(o.contact_count),
                           static_cast<double>(o.broken_bonds)};
     r.insert(r.end(), o.wall_force.begin(), o.wall_force.end());
@@ -49,8 +50,8 @@ std::vector<double> observable_row(const solver::Observables& o) {
 void solve(const SolveOptions& opt, Context& ctx) {
     const double wall0 = wall_seconds();
     auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
+    model::Model m = store::read_model(*f); // refuses a file it cannot read, untouched
     ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
-    model::Model m = store::read_model(*f);
     if (opt.final_time > 0)
         m.solver.final_time = opt.final_time;
 
@@ -119,6 +120,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
     if (ck) {
         store::truncate_after(*f, ck->step);
         s.restore(ck->step, ck->time, ck->u, ck->v, ck->f, ck->alive, ck->broken_total);
+        s.set_external_work(ck->external_work, ck->external_power);
         ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s)", ck->step,
                      ck->time);
         ck.reset();
@@ -153,8 +155,22 @@ void solve(const SolveOptions& opt, Context& ctx) {
         c.f = st.f;
         c.alive = s.bonds().alive;
         c.broken_total = s.broken_total();
+        c.external_work = s.external_work();
+        c.external_power = s.external_power_last();
         store::write_checkpoint(*f, c);
     };
+    double energy0 = 0;
+    if (first == 0) {
+        const auto o = s.observe();
+        energy0 = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+    } else {
+        // Initial energy from the first observable row (kept across restarts).
+        auto series = store::read_observables(*f);
+        const auto ke = series.find("kinetic_energy"), ee = series.find("elastic_energy"),
+                   ce = series.find("contact_energy");
+        if (ke != series.end() && !ke->second.value.empty())
+            energy0 = ke->second.value[0] + ee->second.value[0] + ce->second.value[0];
+    }
     double next_report = wall_seconds() + opt.progress_seconds;
     Timers& timers = s.timers();
     const int t_out = timers.id("pd::store::output");
@@ -175,6 +191,29 @@ void solve(const SolveOptions& opt, Context& ctx) {
                                          s.state().body[static_cast<std::size_t>(i)])
                            : std::string{},
                     dt));
+            }
+            // Blow-up: the mechanical energy far above what the system started with plus the
+            // work done on it (it can only lose energy to damping and fracture).
+            const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+            if (e > 100.0 * (energy0 + std::max(0.0, o.external_work)) + 1e-300) {
+                obs.flush();
+                const auto& st = s.state();
+                std::size_t fast = 0;
+                double vmax = -1;
+                for (std::size_t i = 0; i < st.n; ++i) {
+                    const double v = std::hypot(st.v[3 * i], st.v[3 * i + 1], st.v[3 * i + 2]);
+                    if (v > vmax) {
+                        vmax = v;
+                        fast = i;
+                    }
+                }
+                throw NumericalError(fmt::format(
+                    "{}: blow-up at step {} (t = {:.6g} s): energy {:.4g} J against {:.4g} J "
+                    "initial plus {:.4g} J of external work (fastest: node {} of body {}, "
+                    "{:.3g} m/s); the last good frame stays in the file. Lower dt (now {:.4g} s; "
+                    "stability estimate {:.4g} s)",
+                    opt.file, n, st.time, e, energy0, o.external_work, fast, st.body[fast], vmax,
+                    dt, est.limit));
             }
             obs.add(n, s.state().time, observable_row(o));
         }

@@ -68,10 +68,15 @@ Solver::Solver(const model::Model& m) : m_(m) {
     s_.rho.resize(n);
     s_.moving.resize(n);
     s_.fixed_dof.assign(n, 0);
-    for (const auto& c : m.loading.conditions)
-        if (!c.is_force)
+    for (const auto& c : m.loading.conditions) {
+        if (!c.is_force) {
             for (auto i : c.nodes)
                 s_.fixed_dof[static_cast<std::size_t>(i)] |= c.dofs;
+            has_prescribed_ = true;
+        } else {
+            fbc_.assign(3 * n, 0.0);
+        }
+    }
     for (std::size_t i = 0; i < n; ++i) {
         const auto b = static_cast<std::size_t>(s_.body[i]);
         s_.rho[i] = m.materials[static_cast<std::size_t>(m.bodies.material[b])].density;
@@ -263,6 +268,8 @@ void Solver::compute_forces() {
         ScopedTimer t(timers_, t_damping_);
         apply_damping(pair_records_, wall_records_);
     }
+    if (!fbc_.empty())
+        std::fill(fbc_.begin(), fbc_.end(), 0.0);
     for (const auto& c : m_.loading.conditions) {
         if (!c.is_force)
             continue;
@@ -272,8 +279,10 @@ void Solver::compute_forces() {
             const auto ii = static_cast<std::size_t>(i);
             const double S = space_value(c.space_fn, c.params[0], &s_.x0[3 * ii]);
             for (std::size_t d = 0; d < 3; ++d)
-                if (c.dofs & (1u << d))
+                if (c.dofs & (1u << d)) {
                     s_.f[3 * ii + d] += c.amplitude * T * S;
+                    fbc_[3 * ii + d] += c.amplitude * T * S;
+                }
         }
     }
     if (m_.loading.viscous_damping > 0) {
@@ -460,6 +469,7 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
         s_.x[k] = s_.x0[k] + s_.u[k];
     b_.alive = alive;
     broken_total_ = broken_total;
+    exposed_at_ = -1; // expose damaged nodes at the first force evaluation
 }
 
 void Solver::initialize() {
@@ -475,6 +485,8 @@ void Solver::initialize() {
     }
     apply_displacements();
     compute_forces();
+    power_ = external_power();
+    external_work_ = 0;
 }
 
 void Solver::advance() {
@@ -520,6 +532,42 @@ void Solver::advance() {
             }
         }
     }
+    const double p = external_power();
+    external_work_ += 0.5 * (power_ + p) * dt; // trapezoidal in time
+    power_ = p;
+}
+
+double Solver::external_power() const {
+    // Power of gravity and force conditions on every component, of the reactions that impose
+    // prescribed displacements (minus the internal force there), and of moving walls.
+    double pw = 0;
+    const auto n = static_cast<std::int64_t>(s_.n);
+    const bool g = g_[0] != 0 || g_[1] != 0 || g_[2] != 0;
+    const bool bc = !fbc_.empty();
+    const bool prescribed = has_prescribed_;
+    if (g || bc || prescribed) {
+#pragma omp parallel for schedule(static) reduction(+ : pw) if (n > parallel_min)
+        for (std::int64_t i = 0; i < n; ++i) {
+            const auto ii = static_cast<std::size_t>(i);
+            if (!s_.moving[ii])
+                continue;
+            double p = 0;
+            for (std::size_t d = 0; d < 3; ++d) {
+                const double ext = s_.rho[ii] * g_[d] + (bc ? fbc_[3 * ii + d] : 0.0);
+                p += ext * s_.v[3 * ii + d];
+                if (s_.fixed_dof[ii] & (1u << d))
+                    p -= s_.f[3 * ii + d] * s_.v[3 * ii + d];
+            }
+            pw += p * s_.vol[ii];
+        }
+    }
+    for (std::size_t w = 0; w < m_.walls.size(); ++w) {
+        const auto& wall = m_.walls[w];
+        for (std::size_t d = 0; d < 3; ++d)
+            pw -= wall_load_.force[3 * w + d] * wall.velocity[d] +
+                  wall_load_.moment[3 * w + d] * wall.angular_velocity[d];
+    }
+    return pw;
 }
 
 Observables Solver::observe() const {
@@ -541,6 +589,7 @@ Observables Solver::observe() const {
     o.momentum[2] = p2;
     o.elastic_energy = elastic_energy_;
     o.contact_energy = contact_energy_;
+    o.external_work = external_work_;
     o.contact_count = contact_count_;
     o.wall_force = wall_load_.force;
     o.wall_moment = wall_load_.moment;

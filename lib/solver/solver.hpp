@@ -29,6 +29,8 @@ struct Observables {
     double kinetic_energy = 0;    ///< J
     double elastic_energy = 0;    ///< J, intact bonds
     double contact_energy = 0;    ///< J, contact springs
+    double external_work = 0;     ///< J, work of gravity, force and displacement conditions,
+                                  ///< moving walls since t = 0
     double momentum[3] = {0, 0, 0}; ///< kg m s-1
     std::int64_t contact_count = 0; ///< node pairs (and node-wall pairs) closer than R_c
     std::int64_t broken_bonds = 0;  ///< broken bonds (pairs)
@@ -78,8 +80,18 @@ class Solver {
     /// Number of bonds that cross a pre-crack (broken at initialize()).
     std::int64_t precracked() const { return precracked_; }
 
+    /// Work of external forces since t = 0 (J) and the external power at the last step (W):
+    /// checkpointed, so the work continues across restarts.
+    double external_work() const { return external_work_; }
+    double external_power_last() const { return power_; }
+    void set_external_work(double w, double power) {
+        external_work_ = w;
+        power_ = power;
+    }
+
   private:
     void compute_forces();
+    double external_power() const;
     void break_precracks();
     void apply_damping(const std::vector<BodyPairForce>& pairs,
                        const std::vector<BodyWallForce>& walls);
@@ -103,6 +115,10 @@ class Solver {
     std::int64_t broken_total_ = 0; ///< from both ends
     std::int64_t precracked_ = 0;
     std::int64_t exposed_at_ = 0; ///< broken_total_ when damaged nodes were last exposed
+    std::vector<double> fbc_;     ///< force-condition density per component (if any)
+    bool has_prescribed_ = false;
+    double external_work_ = 0;
+    double power_ = 0; ///< external power at the last force evaluation
     bool initialized_ = false;
     Timers timers_;
     int t_bonds_, t_contact_, t_search_, t_integrate_, t_walls_, t_damping_;

@@ -28,6 +28,8 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.set_attr(g, "time", c.time);
     f.set_attr(g, "dt", c.dt);
     f.set_attr(g, "broken_total", c.broken_total);
+    f.set_attr(g, "external_work", c.external_work);
+    f.set_attr(g, "external_power", c.external_power);
     f.set_attr(g, "complete", std::int32_t{1});
     f.flush();
     f.set_attr(root, "latest", name);
@@ -51,6 +53,8 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
     c.time = f.attr<double>(g, "time");
     c.dt = f.attr<double>(g, "dt");
     c.broken_total = f.attr<std::int64_t>(g, "broken_total");
+    c.external_work = f.attr<double>(g, "external_work");
+    c.external_power = f.attr<double>(g, "external_power");
     auto get3 = [&](const std::string& p) {
         h5::dims_t d;
         auto v = f.read<double>(g + "/" + p, &d);

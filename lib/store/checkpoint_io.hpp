@@ -23,6 +23,8 @@ struct Checkpoint {
     std::vector<double> u, v, f;     ///< 3 per node: m, m s-1, N m-3 (force density)
     std::vector<std::uint8_t> alive; ///< per bond (full CSR list)
     std::int64_t broken_total = 0;   ///< broken bonds counted from both ends
+    double external_work = 0;        ///< J, since t = 0
+    double external_power = 0;       ///< W, at this step (trapezoidal work integration)
 };
 
 /// Writes `c` as /checkpoints/step_<N>, then points @latest at it and deletes older ones.

@@ -29,6 +29,7 @@ const std::vector<ObservableInfo>& observable_list() {
     static const std::vector<ObservableInfo> o{{"kinetic_energy", 1, "J"},
                                                {"elastic_energy", 1, "J"},
                                                {"contact_energy", 1, "J"},
+                                               {"external_work", 1, "J"},
                                                {"momentum", 3, "kg m s-1"},
                                                {"contact_count", 1, "1"},
                                                {"broken_bonds", 1, "1"}};

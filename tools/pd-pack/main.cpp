@@ -7,7 +7,7 @@
 
 int main(int argc, char** argv) {
     pd::pipeline::PackOptions opt;
-    CLI::App app{"pd-pack: build a pdgrain scene (meshes, nodes, bonds, contact) into a pd-file"};
+    CLI::App app{"pd-pack: build a pdgrain scene (meshes, nodes, bonds, contact) into a pd-file", "pd-pack"};
     app.add_option("scene", opt.scene, "scene file (JSON; comments allowed)")
         ->required()
         ->check(CLI::ExistingFile);

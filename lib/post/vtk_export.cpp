@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: MIT
+// VTU + PVD writer (see vtk_export.hpp). The only VTK code of pdgrain: XML writers only.
+// Format: appended raw binary, zlib-compressed; the PVD is written by hand (plain XML).
+#include "post/vtk_export.hpp"
+
+#include "core/errors.hpp"
+#include "h5/file.hpp"
+#include "store/frames.hpp"
+#include "store/schema.hpp"
+
+#include <fmt/format.h>
+#include <vtkCellArray.h>
+#include <vtkCellType.h>
+#include <vtkDoubleArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+namespace pd::post {
+
+namespace {
+
+std::string xml_escape(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        switch (c) {
+        case '&':
+            out += "&amp;";
+            break;
+        case '<':
+            out += "&lt;";
+            break;
+        case '>':
+            out += "&gt;";
+            break;
+        case '"':
+            out += "&quot;";
+            break;
+        default:
+            out += c;
+        }
+    }
+    return out;
+}
+
+/// One VTK_VERTEX cell per point: meshio rejects a .vtu without cells (environment notes B.5).
+void set_vertex_cells(vtkUnstructuredGrid* grid, vtkIdType n) {
+    vtkNew<vtkIdTypeArray> offsets;
+    vtkNew<vtkIdTypeArray> connectivity;
+    offsets->SetNumberOfValues(n + 1);
+    connectivity->SetNumberOfValues(n);
+    for (vtkIdType i = 0; i < n; ++i) {
+        offsets->SetValue(i, i);
+        connectivity->SetValue(i, i);
+    }
+    offsets->SetValue(n, n);
+    vtkNew<vtkCellArray> cells;
+    cells->SetData(offsets, connectivity);
+    grid->SetCells(VTK_VERTEX, cells);
+}
+
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& items) {
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(path.c_str(), "w"),
+                                                        &std::fclose);
+    if (!out)
+        throw InputError(fmt::format("{}: cannot open for writing", path));
+    std::string s = "<?xml version=\"1.0\"?>\n"
+                    "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+                    "  <Collection>\n";
+    for (const auto& [time, file] : items)
+        s += fmt::format("    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+                         time, xml_escape(file));
+    s += "  </Collection>\n</VTKFile>\n";
+    if (std::fputs(s.c_str(), out.get()) < 0 || std::fflush(out.get()) != 0)
+        throw InputError(fmt::format("{}: write failed (disk full?)", path));
+}
+
+} // namespace
+
+VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const std::string& out_dir,
+                           const std::string& stem) {
+    store::FrameReader frames(f);
+    const std::string particles = store::path::particles;
+    const auto n = frames.num_nodes();
+    if (n != nodes.num())
+        throw SchemaError(
+            f.name(), particles + "/position/value",
+            fmt::format("has {} nodes per frame, expected {} (/nodes)", n, nodes.num()));
+    const auto fields = frames.fields();
+    if (std::find(fields.begin(), fields.end(), "position") == fields.end())
+        throw SchemaError(f.name(), particles + "/position", "missing (no positions to plot)");
+
+    vtkNew<vtkUnstructuredGrid> grid;
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(static_cast<vtkIdType>(n));
+    grid->SetPoints(points);
+    set_vertex_cells(grid, static_cast<vtkIdType>(n));
+
+    vtkNew<vtkIntArray> body;
+    body->SetName("body");
+    body->SetNumberOfValues(static_cast<vtkIdType>(n));
+    std::copy(nodes.body.begin(), nodes.body.end(), body->GetPointer(0));
+    grid->GetPointData()->AddArray(body);
+    vtkNew<vtkDoubleArray> volume;
+    volume->SetName("volume");
+    volume->SetNumberOfValues(static_cast<vtkIdType>(n));
+    std::copy(nodes.volume.begin(), nodes.volume.end(), volume->GetPointer(0));
+    grid->GetPointData()->AddArray(volume);
+
+    std::vector<vtkSmartPointer<vtkDoubleArray>> arrays;
+    for (const auto& name : fields) {
+        auto a = vtkSmartPointer<vtkDoubleArray>::New();
+        a->SetName(name.c_str());
+        a->SetNumberOfComponents(frames.components(name));
+        a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+        grid->GetPointData()->AddArray(a);
+        arrays.push_back(a);
+    }
+
+    vtkNew<vtkXMLUnstructuredGridWriter> writer;
+    writer->SetInputData(grid);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    writer->SetCompressorTypeToZLib();
+
+    std::vector<std::pair<double, std::string>> listed;
+    for (std::size_t k = 0; k < frames.num_frames(); ++k) {
+        for (std::size_t i = 0; i < fields.size(); ++i) {
+            const auto values = frames.read(fields[i], k);
+            const auto want = n * static_cast<std::size_t>(frames.components(fields[i]));
+            if (values.size() != want)
+                throw SchemaError(
+                    f.name(), particles + "/" + fields[i] + "/value",
+                    fmt::format("frame {} has {} values, expected {}", k, values.size(), want));
+            std::copy(values.begin(), values.end(), arrays[i]->GetPointer(0));
+            arrays[i]->Modified();
+            if (fields[i] == "position") {
+                for (std::size_t p = 0; p < n; ++p)
+                    points->SetPoint(static_cast<vtkIdType>(p), values.data() + 3 * p);
+                points->Modified();
+            }
+        }
+        const std::string name = fmt::format("{}_{:06d}.vtu", stem, k);
+        const std::string path = (std::filesystem::path(out_dir) / name).string();
+        writer->SetFileName(path.c_str());
+        if (writer->Write() != 1)
+            throw InputError(fmt::format("{}: cannot write (VTK XML writer failed)", path));
+        listed.emplace_back(frames.time(k), name);
+    }
+    // Frames beyond the last one, left by an earlier export of a longer run, would join the
+    // series in ParaView's file grouping: remove that contiguous tail of our own numbering.
+    for (std::size_t k = listed.size();; ++k) {
+        const auto stale = std::filesystem::path(out_dir) / fmt::format("{}_{:06d}.vtu", stem, k);
+        std::error_code ec;
+        if (!std::filesystem::remove(stale, ec))
+            break;
+    }
+    VtuSeries out;
+    out.frames = listed.size();
+    out.pvd = (std::filesystem::path(out_dir) / (stem + ".pvd")).string();
+    write_pvd(out.pvd, listed);
+    return out;
+}
+
+} // namespace pd::post

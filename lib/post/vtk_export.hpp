@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: MIT
+// ParaView/meshio output of the frames in a pd-file: one .vtu per frame (points at the current
+// positions, one VTK_VERTEX cell per point, point data = every stored nodal field + body +
+// volume) and a .pvd collection listing the files with their times. Frames are streamed one at
+// a time through store::FrameReader, so memory does not grow with the number of frames.
+#pragma once
+
+#include "model/model.hpp"
+
+#include <cstddef>
+#include <string>
+
+namespace pd::h5 {
+class File;
+}
+
+namespace pd::post {
+
+/// What write_vtu_series produced.
+struct VtuSeries {
+    std::size_t frames = 0; ///< .vtu files written
+    std::string pvd;        ///< path of the .pvd collection
+};
+
+/// Writes `<out_dir>/<stem>_<frame:06>.vtu` for every frame of `f` and `<out_dir>/<stem>.pvd`,
+/// and removes `<stem>_<k:06>.vtu` files numbered after the last frame (an older, longer export).
+/// `nodes` supplies body and volume (from store::read_model). `out_dir` must exist. Throws
+/// SchemaError if the frames lack /particles/nodes/position or disagree with `nodes`, InputError
+/// if a file cannot be written.
+VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const std::string& out_dir,
+                           const std::string& stem);
+
+} // namespace pd::post
