@@ -200,7 +200,10 @@ TEST(UniformGrid, CurvedAndSolid) {
 class MshFiles : public ::testing::Test {
   protected:
     void SetUp() override {
-        dir_ = std::filesystem::temp_directory_path() / "pd_test_msh";
+        // One directory per test: ctest may run these tests in parallel processes.
+        dir_ = std::filesystem::temp_directory_path() /
+               (std::string("pd_test_msh_") +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
         std::filesystem::create_directories(dir_);
     }
     void TearDown() override { std::filesystem::remove_all(dir_); }

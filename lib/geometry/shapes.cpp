@@ -1,0 +1,625 @@
+// SPDX-License-Identifier: MIT
+// Shape: factories with input checks, exact measures of primitives, CSG evaluated on the tree
+// (containment) or on the exact Boolean result of the polygonal boundaries (area, centroid,
+// distance; region.cpp). Derived quantities are computed once, when a shape is made or placed.
+#include "geometry/shapes.hpp"
+
+#include "core/errors.hpp"
+#include "geometry/region.hpp"
+
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace pd::geometry {
+
+using detail::Region;
+using detail::Ring;
+
+struct Shape::Node {
+    ShapeKind kind = ShapeKind::circle;
+    int dim = 2;
+    std::vector<double> params;
+    std::vector<Vec2> verts;
+    std::vector<Shape> children;
+    Placement place;
+    std::string label;
+    // Derived, in the node's own frame.
+    double measure = 0;
+    Vec3 local_centroid{0, 0, 0};
+    std::shared_ptr<const Region> region; ///< ellipse, polygonal kinds but rectangle, CSG
+    double tol = 0; ///< how far the region's boundary may lie inside the true boundary, m
+    // Derived, after placement.
+    double bounding_radius = 0;
+    std::array<double, 6> box{};
+};
+
+struct ShapeAccess {
+    static const Shape::Node& node(const Shape& s) { return *s.node_; }
+    static Shape make(std::shared_ptr<const Shape::Node> n) { return Shape(std::move(n)); }
+};
+
+// ------------------------------------------------------------------------------------------------
+Vec3 Placement::apply(const Vec3& x) const {
+    if (theta == 0)
+        return {x[0] + t[0], x[1] + t[1], x[2] + t[2]};
+    const double c = std::cos(theta), s = std::sin(theta);
+    return {c * x[0] - s * x[1] + t[0], s * x[0] + c * x[1] + t[1], x[2] + t[2]};
+}
+
+Vec3 Placement::apply_inverse(const Vec3& x) const {
+    const double dx = x[0] - t[0], dy = x[1] - t[1], dz = x[2] - t[2];
+    if (theta == 0)
+        return {dx, dy, dz};
+    const double c = std::cos(theta), s = std::sin(theta);
+    return {c * dx + s * dy, -s * dx + c * dy, dz};
+}
+
+Placement Placement::compose(const Placement& other) const {
+    return Placement{theta + other.theta, apply(other.t)};
+}
+
+// ------------------------------------------------------------------------------------------------
+namespace {
+
+using Node = Shape::Node;
+constexpr double pi = std::numbers::pi;
+
+double sagitta(double r) {
+    return r * (1 - std::cos(pi / curve_segments));
+}
+double hypot2(double x, double y) {
+    return std::sqrt(x * x + y * y);
+}
+const Node& node_of(const Shape& s) {
+    return ShapeAccess::node(s);
+}
+
+void require_length(const std::string& shape, const char* what, double v) {
+    if (!(v > 0) || !std::isfinite(v))
+        throw InputError(
+            fmt::format("{}: {} must be a positive finite length in m, got {}", shape, what, v));
+}
+
+bool is_polygonal(ShapeKind k) {
+    return k == ShapeKind::regular_polygon || k == ShapeKind::rectangle || k == ShapeKind::drum2d ||
+           k == ShapeKind::polygon;
+}
+
+/// Shoelace area and centroid of a CCW ring.
+std::pair<double, Vec2> polygon_moments(const std::vector<Vec2>& v) {
+    double a = 0, mx = 0, my = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const auto& p = v[i];
+        const auto& q = v[(i + 1) % v.size()];
+        const double c = p[0] * q[1] - q[0] * p[1];
+        a += c;
+        mx += (p[0] + q[0]) * c;
+        my += (p[1] + q[1]) * c;
+    }
+    return {0.5 * a, {mx / (3 * a), my / (3 * a)}};
+}
+
+/// The 2D node as a polygonal region in the frame reached by P (P maps the node's own frame
+/// there). Curves become inscribed polygons with curve_segments vertices.
+Region build_region(const Node& n, const Placement& P) {
+    auto mapped = [&](double x, double y) {
+        const Vec3 q = P.apply({x, y, 0});
+        return std::array<double, 2>{q[0], q[1]};
+    };
+    Ring ring;
+    switch (n.kind) {
+    case ShapeKind::circle:
+    case ShapeKind::ellipse: {
+        const double a = n.params[0], b = n.kind == ShapeKind::circle ? a : n.params[1];
+        for (int k = 0; k < curve_segments; ++k) {
+            const double t = 2 * pi * k / curve_segments;
+            ring.push_back(mapped(a * std::cos(t), b * std::sin(t)));
+        }
+        return Region::polygon(ring);
+    }
+    case ShapeKind::unite:
+    case ShapeKind::difference: {
+        auto part = [&](std::size_t i) {
+            const Node& c = node_of(n.children[i]);
+            return build_region(c, P.compose(c.place));
+        };
+        Region r = part(0);
+        for (std::size_t i = 1; i < n.children.size(); ++i)
+            r = n.kind == ShapeKind::unite ? Region::unite(r, part(i))
+                                           : Region::subtract(r, part(i));
+        return r;
+    }
+    default:
+        PD_CHECK(is_polygonal(n.kind), "build_region: not a 2D shape");
+        for (const auto& v : n.verts)
+            ring.push_back(mapped(v[0], v[1]));
+        return Region::polygon(ring);
+    }
+}
+
+/// Largest |P(X)| over the points X of the node (P maps the node's own frame to the target).
+double farthest(const Node& n, const Placement& P) {
+    const Vec3 c = P.apply({0, 0, 0});
+    const double cxy = hypot2(c[0], c[1]);
+    auto max_over = [&](const std::vector<Vec2>& pts, double extra) {
+        double r = 0;
+        for (const auto& v : pts) {
+            const Vec3 q = P.apply({v[0], v[1], 0});
+            r = std::max(r, hypot2(q[0], q[1]));
+        }
+        return r + extra;
+    };
+    switch (n.kind) {
+    case ShapeKind::circle:
+        return cxy + n.params[0];
+    case ShapeKind::ellipse: {
+        if (cxy == 0)
+            return std::max(n.params[0], n.params[1]);
+        std::vector<Vec2> pts;
+        for (const auto& ring : n.region->rings())
+            pts.insert(pts.end(), ring.begin(), ring.end());
+        return max_over(pts, n.tol);
+    }
+    case ShapeKind::unite: {
+        double r = 0;
+        for (const auto& ch : n.children)
+            r = std::max(r, farthest(node_of(ch), P.compose(node_of(ch).place)));
+        return r;
+    }
+    case ShapeKind::difference: {
+        const Node& base = node_of(n.children[0]);
+        std::vector<Vec2> pts;
+        for (const auto& ring : n.region->rings())
+            pts.insert(pts.end(), ring.begin(), ring.end());
+        return std::min(farthest(base, P.compose(base.place)), max_over(pts, n.tol));
+    }
+    case ShapeKind::sphere:
+        return std::sqrt(cxy * cxy + c[2] * c[2]) + n.params[0];
+    case ShapeKind::box: {
+        double r = 0;
+        for (int k = 0; k < 8; ++k) {
+            const Vec3 q =
+                P.apply({(k & 1 ? 0.5 : -0.5) * n.params[0], (k & 2 ? 0.5 : -0.5) * n.params[1],
+                         (k & 4 ? 0.5 : -0.5) * n.params[2]});
+            r = std::max(r, std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]));
+        }
+        return r;
+    }
+    case ShapeKind::cylinder: {
+        const double a = cxy + n.params[0], b = std::abs(c[2]) + 0.5 * n.params[1];
+        return std::sqrt(a * a + b * b);
+    }
+    default:
+        return max_over(n.verts, 0);
+    }
+}
+
+/// Axis-aligned bounding box of the node mapped by P.
+std::array<double, 6> bounds(const Node& n, const Placement& P) {
+    const double inf = std::numeric_limits<double>::infinity();
+    std::array<double, 6> b{inf, inf, inf, -inf, -inf, -inf};
+    auto grow = [&](const Vec3& q) {
+        for (int i = 0; i < 3; ++i) {
+            b[i] = std::min(b[i], q[i]);
+            b[i + 3] = std::max(b[i + 3], q[i]);
+        }
+    };
+    const Vec3 c = P.apply({0, 0, 0});
+    switch (n.kind) {
+    case ShapeKind::circle:
+    case ShapeKind::ellipse: {
+        const double a = n.params[0], bb = n.kind == ShapeKind::circle ? a : n.params[1];
+        const double co = std::cos(P.theta), si = std::sin(P.theta);
+        const double hx = std::sqrt(a * a * co * co + bb * bb * si * si);
+        const double hy = std::sqrt(a * a * si * si + bb * bb * co * co);
+        grow({c[0] - hx, c[1] - hy, c[2]});
+        grow({c[0] + hx, c[1] + hy, c[2]});
+        break;
+    }
+    case ShapeKind::unite:
+        for (const auto& ch : n.children) {
+            const auto cb = bounds(node_of(ch), P.compose(node_of(ch).place));
+            grow({cb[0], cb[1], cb[2]});
+            grow({cb[3], cb[4], cb[5]});
+        }
+        break;
+    case ShapeKind::difference:
+        return bounds(node_of(n.children[0]), P.compose(node_of(n.children[0]).place));
+    case ShapeKind::sphere:
+        grow({c[0] - n.params[0], c[1] - n.params[0], c[2] - n.params[0]});
+        grow({c[0] + n.params[0], c[1] + n.params[0], c[2] + n.params[0]});
+        break;
+    case ShapeKind::box:
+        for (int k = 0; k < 8; ++k)
+            grow(P.apply({(k & 1 ? 0.5 : -0.5) * n.params[0], (k & 2 ? 0.5 : -0.5) * n.params[1],
+                          (k & 4 ? 0.5 : -0.5) * n.params[2]}));
+        break;
+    case ShapeKind::cylinder:
+        grow({c[0] - n.params[0], c[1] - n.params[0], c[2] - 0.5 * n.params[1]});
+        grow({c[0] + n.params[0], c[1] + n.params[0], c[2] + 0.5 * n.params[1]});
+        break;
+    default:
+        for (const auto& v : n.verts)
+            grow(P.apply({v[0], v[1], 0}));
+    }
+    return b;
+}
+
+int compare(double a, double b) {
+    return a < b ? 1 : (a == b ? 0 : -1);
+}
+
+/// +1 inside, 0 on the boundary, -1 outside; X in the node's own frame.
+int classify(const Node& n, const Vec3& X) {
+    const double x = X[0], y = X[1], z = X[2];
+    const auto& p = n.params;
+    switch (n.kind) {
+    case ShapeKind::circle:
+        return compare(x * x + y * y, p[0] * p[0]);
+    case ShapeKind::ellipse:
+        return compare(x * x / (p[0] * p[0]) + y * y / (p[1] * p[1]), 1.0);
+    case ShapeKind::rectangle:
+        return std::min(compare(std::abs(x), 0.5 * p[0]), compare(std::abs(y), 0.5 * p[1]));
+    case ShapeKind::unite: {
+        int best = -1;
+        for (const auto& ch : n.children)
+            best = std::max(best, classify(node_of(ch), node_of(ch).place.apply_inverse(X)));
+        return best;
+    }
+    case ShapeKind::difference: {
+        const Node& base = node_of(n.children[0]);
+        int result = classify(base, base.place.apply_inverse(X));
+        for (std::size_t i = 1; i < n.children.size() && result >= 0; ++i) {
+            const Node& tool = node_of(n.children[i]);
+            const int t = classify(tool, tool.place.apply_inverse(X));
+            if (t > 0)
+                result = -1;
+            else if (t == 0)
+                result = 0;
+        }
+        return result;
+    }
+    case ShapeKind::sphere:
+        return compare(x * x + y * y + z * z, p[0] * p[0]);
+    case ShapeKind::box:
+        return std::min({compare(std::abs(x), 0.5 * p[0]), compare(std::abs(y), 0.5 * p[1]),
+                         compare(std::abs(z), 0.5 * p[2])});
+    case ShapeKind::cylinder:
+        return std::min(compare(x * x + y * y, p[0] * p[0]), compare(std::abs(z), 0.5 * p[1]));
+    default:
+        return n.region->classify(x, y);
+    }
+}
+
+/// Signed distance of an axis-aligned box with half sides h to a point q (negative inside).
+double box_sdf(const double* q, const double* h, int dim) {
+    double outside = 0, inside = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < dim; ++i) {
+        const double d = std::abs(q[i]) - h[i];
+        outside += d > 0 ? d * d : 0;
+        inside = std::max(inside, d);
+    }
+    return inside > 0 ? std::sqrt(outside) : inside;
+}
+
+/// clearance() in the node's own frame.
+double clearance_local(const Node& n, const Vec3& X) {
+    const auto& p = n.params;
+    switch (n.kind) {
+    case ShapeKind::circle:
+        return p[0] - hypot2(X[0], X[1]);
+    case ShapeKind::rectangle: {
+        const double h[2] = {0.5 * p[0], 0.5 * p[1]};
+        return -box_sdf(X.data(), h, 2);
+    }
+    case ShapeKind::sphere:
+        return p[0] - std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+    case ShapeKind::box: {
+        const double h[3] = {0.5 * p[0], 0.5 * p[1], 0.5 * p[2]};
+        return -box_sdf(X.data(), h, 3);
+    }
+    case ShapeKind::cylinder: {
+        const double q[2] = {hypot2(X[0], X[1]), X[2]};
+        const double dr = q[0] - p[0], dz = std::abs(q[1]) - 0.5 * p[1];
+        const double inside = std::min(std::max(dr, dz), 0.0);
+        const double outside = hypot2(std::max(dr, 0.0), std::max(dz, 0.0));
+        return -(inside + outside);
+    }
+    default: {
+        const int c = classify(n, X);
+        const double d = n.region->boundary_distance(X[0], X[1]);
+        return (c > 0 ? d : (c == 0 ? 0 : -d)) - n.tol;
+    }
+    }
+}
+
+std::string fmt_len(double v) {
+    return fmt::format("{:g}", v);
+}
+
+/// Fills the derived fields of a node whose kind, parameters, vertices and children are set.
+std::shared_ptr<const Node> finish(Node n) {
+    switch (n.kind) {
+    case ShapeKind::circle:
+        n.measure = pi * n.params[0] * n.params[0];
+        break;
+    case ShapeKind::ellipse:
+        n.measure = pi * n.params[0] * n.params[1];
+        n.tol = sagitta(std::max(n.params[0], n.params[1]));
+        n.region = std::make_shared<const Region>(build_region(n, Placement{}));
+        break;
+    case ShapeKind::unite:
+    case ShapeKind::difference: {
+        for (const auto& ch : n.children)
+            n.tol = std::max(n.tol, node_of(ch).tol);
+        auto r = std::make_shared<const Region>(build_region(n, Placement{}));
+        if (r->empty())
+            throw InputError(fmt::format("{}: the result is empty", n.label));
+        n.measure = r->area();
+        n.local_centroid = {r->centroid()[0], r->centroid()[1], 0};
+        n.region = std::move(r);
+        break;
+    }
+    case ShapeKind::sphere:
+        n.measure = 4.0 / 3.0 * pi * std::pow(n.params[0], 3);
+        break;
+    case ShapeKind::box:
+        n.measure = n.params[0] * n.params[1] * n.params[2];
+        break;
+    case ShapeKind::cylinder:
+        n.measure = pi * n.params[0] * n.params[0] * n.params[1];
+        break;
+    default: { // polygonal
+        if (n.kind != ShapeKind::rectangle)
+            n.region = std::make_shared<const Region>(Region::polygon(n.verts));
+        const auto [a, c] = polygon_moments(n.verts);
+        n.measure = a;
+        n.local_centroid = {c[0], c[1], 0};
+    }
+    }
+    n.bounding_radius = farthest(n, n.place);
+    n.box = bounds(n, n.place);
+    return std::make_shared<const Node>(std::move(n));
+}
+
+Node primitive(ShapeKind kind, int dim, std::vector<double> params, std::string label) {
+    Node n;
+    n.kind = kind;
+    n.dim = dim;
+    n.params = std::move(params);
+    n.label = std::move(label);
+    return n;
+}
+
+Shape make(Node n) {
+    return ShapeAccess::make(finish(std::move(n)));
+}
+
+} // namespace
+
+// ------------------------------------------------------------------------------------------------
+Shape Shape::circle(double r) {
+    require_length("circle", "radius", r);
+    return make(primitive(ShapeKind::circle, 2, {r}, fmt::format("circle(r={})", fmt_len(r))));
+}
+
+Shape Shape::ellipse(double a, double b) {
+    require_length("ellipse", "semi-axis a", a);
+    require_length("ellipse", "semi-axis b", b);
+    return make(primitive(ShapeKind::ellipse, 2, {a, b},
+                          fmt::format("ellipse(a={}, b={})", fmt_len(a), fmt_len(b))));
+}
+
+Shape Shape::regular_polygon(int n, double r, double phase) {
+    if (n < 3)
+        throw InputError(fmt::format("regular polygon: needs at least 3 sides, got {}", n));
+    require_length("regular polygon", "circumradius", r);
+    if (!std::isfinite(phase))
+        throw InputError("regular polygon: phase must be finite");
+    std::string label =
+        n == 6 && phase == 0        ? fmt::format("hexagon(r={})", fmt_len(r))
+        : n == 3 && phase == pi / 2 ? fmt::format("triangle(r={})", fmt_len(r))
+        : n == 4 && phase == pi / 4
+            ? fmt::format("square(r={})", fmt_len(r))
+            : fmt::format("regular_polygon(n={}, r={}, phase={:g})", n, fmt_len(r), phase);
+    Node node = primitive(ShapeKind::regular_polygon, 2, {double(n), r, phase}, std::move(label));
+    for (int k = 0; k < n; ++k) {
+        const double t = phase + 2 * pi * k / n;
+        node.verts.push_back({r * std::cos(t), r * std::sin(t)});
+    }
+    return make(std::move(node));
+}
+
+Shape Shape::triangle(double r) {
+    // Spec 2.5 lists (0, R), (-R cos30, -R sin30), (R cos30, -R sin30); exact values where exact.
+    Shape s = regular_polygon(3, r, pi / 2);
+    Node n = node_of(s);
+    const double c30 = std::sqrt(3.0) / 2;
+    n.verts = {{0, r}, {-r * c30, -0.5 * r}, {r * c30, -0.5 * r}};
+    return make(std::move(n));
+}
+
+Shape Shape::square(double r) {
+    return regular_polygon(4, r, pi / 4);
+}
+Shape Shape::hexagon(double r) {
+    return regular_polygon(6, r, 0);
+}
+
+Shape Shape::rectangle(double lx, double ly) {
+    require_length("rectangle", "lx", lx);
+    require_length("rectangle", "ly", ly);
+    Node n = primitive(ShapeKind::rectangle, 2, {lx, ly},
+                       fmt::format("rectangle(lx={}, ly={})", fmt_len(lx), fmt_len(ly)));
+    n.verts = {
+        {-0.5 * lx, -0.5 * ly}, {0.5 * lx, -0.5 * ly}, {0.5 * lx, 0.5 * ly}, {-0.5 * lx, 0.5 * ly}};
+    return make(std::move(n));
+}
+
+Shape Shape::rectangle_corners(double x0, double y0, double x1, double y1) {
+    if (!(x1 > x0) || !(y1 > y0))
+        throw InputError(fmt::format("rectangle: corners ({}, {}) and ({}, {}) need x1 > x0 and "
+                                     "y1 > y0",
+                                     x0, y0, x1, y1));
+    return rectangle(x1 - x0, y1 - y0).translated(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+}
+
+Shape Shape::drum2d(double r, double w) {
+    require_length("drum2d", "radius", r);
+    require_length("drum2d", "neck width", w);
+    if (!(w < 2 * r))
+        throw InputError(fmt::format("drum2d: neck width {} must be below 2 r = {}", w, 2 * r));
+    Node n = primitive(ShapeKind::drum2d, 2, {r, w},
+                       fmt::format("drum2d(r={}, w={})", fmt_len(r), fmt_len(w)));
+    const double h = r * std::sqrt(3.0) / 2;
+    n.verts = {{0.5 * w, 0},  {0.5 * r, h},   {-0.5 * r, h},
+               {-0.5 * w, 0}, {-0.5 * r, -h}, {0.5 * r, -h}};
+    return make(std::move(n));
+}
+
+Shape Shape::polygon(std::vector<Vec2> vertices) {
+    Node n =
+        primitive(ShapeKind::polygon, 2, {}, fmt::format("polygon({} vertices)", vertices.size()));
+    // Validates (simple, non-degenerate) and fixes the orientation through a region.
+    const Region check = Region::polygon(Ring(vertices.begin(), vertices.end()));
+    if (polygon_moments(vertices).first < 0)
+        std::reverse(vertices.begin(), vertices.end());
+    n.verts = std::move(vertices);
+    (void)check;
+    return make(std::move(n));
+}
+
+namespace {
+Shape csg(ShapeKind kind, std::vector<Shape> parts, const char* op) {
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        if (parts[i].dimension() != 2)
+            throw InputError(
+                fmt::format("{}: CSG is 2D only, operand {} is {}", op, i, parts[i].name()));
+        names.push_back(parts[i].name());
+    }
+    Node n = primitive(kind, 2, {}, fmt::format("{}({})", op, fmt::join(names, ", ")));
+    n.children = std::move(parts);
+    return make(std::move(n));
+}
+} // namespace
+
+Shape Shape::unite(std::vector<Shape> parts) {
+    if (parts.size() < 2)
+        throw InputError(fmt::format("unite: needs at least 2 shapes, got {}", parts.size()));
+    return csg(ShapeKind::unite, std::move(parts), "unite");
+}
+
+Shape Shape::difference(Shape base, std::vector<Shape> tools) {
+    if (tools.empty())
+        throw InputError("difference: needs at least one shape to subtract");
+    tools.insert(tools.begin(), std::move(base));
+    return csg(ShapeKind::difference, std::move(tools), "difference");
+}
+
+Shape Shape::sphere(double r) {
+    require_length("sphere", "radius", r);
+    return make(primitive(ShapeKind::sphere, 3, {r}, fmt::format("sphere(r={})", fmt_len(r))));
+}
+
+Shape Shape::box(double lx, double ly, double lz) {
+    require_length("box", "lx", lx);
+    require_length("box", "ly", ly);
+    require_length("box", "lz", lz);
+    return make(
+        primitive(ShapeKind::box, 3, {lx, ly, lz},
+                  fmt::format("box(lx={}, ly={}, lz={})", fmt_len(lx), fmt_len(ly), fmt_len(lz))));
+}
+
+Shape Shape::cylinder(double r, double l) {
+    require_length("cylinder", "radius", r);
+    require_length("cylinder", "length", l);
+    return make(primitive(ShapeKind::cylinder, 3, {r, l},
+                          fmt::format("cylinder(r={}, l={})", fmt_len(r), fmt_len(l))));
+}
+
+// ------------------------------------------------------------------------------------------------
+Shape Shape::translated(double dx, double dy, double dz) const {
+    if (!std::isfinite(dx) || !std::isfinite(dy) || !std::isfinite(dz))
+        throw InputError(fmt::format("{}: translation must be finite", name()));
+    if (dimension() == 2 && dz != 0)
+        throw InputError(
+            fmt::format("{}: a 2D shape cannot be moved along z (dz = {})", name(), dz));
+    Node n = *node_;
+    n.place = Placement{0, {dx, dy, dz}}.compose(n.place);
+    n.bounding_radius = farthest(n, n.place);
+    n.box = bounds(n, n.place);
+    return Shape(std::make_shared<const Node>(std::move(n)));
+}
+
+Shape Shape::rotated(double theta) const {
+    if (!std::isfinite(theta))
+        throw InputError(fmt::format("{}: rotation angle must be finite", name()));
+    Node n = *node_;
+    n.place = Placement{theta, {0, 0, 0}}.compose(n.place);
+    n.bounding_radius = farthest(n, n.place);
+    n.box = bounds(n, n.place);
+    return Shape(std::make_shared<const Node>(std::move(n)));
+}
+
+Shape Shape::centered() const {
+    const Vec3 c = centroid();
+    return translated(-c[0], -c[1], -c[2]);
+}
+
+ShapeKind Shape::kind() const {
+    return node_->kind;
+}
+int Shape::dimension() const {
+    return node_->dim;
+}
+
+std::string Shape::name() const {
+    const Placement& p = node_->place;
+    if (p.is_identity())
+        return node_->label;
+    return fmt::format("{}@(t=({:g}, {:g}, {:g}), theta={:g})", node_->label, p.t[0], p.t[1],
+                       p.t[2], p.theta);
+}
+
+double Shape::area_or_volume() const {
+    return node_->measure;
+}
+Vec3 Shape::centroid() const {
+    return node_->place.apply(node_->local_centroid);
+}
+double Shape::bounding_radius() const {
+    return node_->bounding_radius;
+}
+std::array<double, 6> Shape::bounding_box() const {
+    return node_->box;
+}
+
+bool Shape::contains(double x, double y, double z) const {
+    const Vec3 X = node_->place.apply_inverse({x, y, node_->dim == 2 ? 0.0 : z});
+    return classify(*node_, X) >= 0;
+}
+
+double Shape::clearance(double x, double y, double z) const {
+    const Vec3 X = node_->place.apply_inverse({x, y, node_->dim == 2 ? 0.0 : z});
+    return clearance_local(*node_, X);
+}
+
+const std::vector<double>& Shape::parameters() const {
+    return node_->params;
+}
+const std::vector<Vec2>& Shape::vertices() const {
+    return node_->verts;
+}
+const std::vector<Shape>& Shape::children() const {
+    return node_->children;
+}
+const Placement& Shape::placement() const {
+    return node_->place;
+}
+
+} // namespace pd::geometry

@@ -1,0 +1,156 @@
+// SPDX-License-Identifier: MIT
+// Reference shapes of grains and containers (spec 2.5): 2D circle, ellipse, regular polygons,
+// rectangle, drum2d, general polygons and their CSG unions/differences; 3D sphere, box, cylinder.
+// A Shape is an immutable value (cheap to copy) that knows its exact area/volume, centroid,
+// bounding radius and point containment. No CGAL here: exact polygon work is in region.cpp.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pd::geometry {
+
+using Vec2 = std::array<double, 2>;
+using Vec3 = std::array<double, 3>;
+
+enum class ShapeKind : std::uint8_t {
+    circle,
+    ellipse,
+    regular_polygon, ///< includes triangle, square, hexagon
+    rectangle,
+    drum2d,
+    polygon,
+    unite,      ///< CSG union of two or more shapes
+    difference, ///< CSG difference: first shape minus the others
+    sphere,
+    box,
+    cylinder,
+};
+
+/// Rigid placement x = R_z(theta) X + t of a shape's own frame in its parent frame.
+struct Placement {
+    double theta = 0; ///< rotation about the z axis through the origin, rad
+    Vec3 t{0, 0, 0};  ///< translation, m
+    Vec3 apply(const Vec3& x) const;
+    Vec3 apply_inverse(const Vec3& x) const;
+    /// The placement x -> this(other(x)).
+    Placement compose(const Placement& other) const;
+    bool is_identity() const { return theta == 0 && t[0] == 0 && t[1] == 0 && t[2] == 0; }
+};
+
+/// Number of polygon vertices used for a full circle or ellipse wherever a curved boundary must be
+/// made polygonal (CSG areas and centroids, distance to curved boundaries). The polygon is
+/// inscribed, so the boundary moves inwards by at most R (1 - cos(pi/n)) = 4.7e-6 R and a
+/// circle's area is low by 2 pi^2 / (3 n^2) = 6.3e-6 (relative).
+inline constexpr int curve_segments = 1024;
+
+/// A shape in its own frame (lengths in m). The **reference point is the frame origin**: every
+/// grain primitive is centred so that its centroid (and the centre of its bounding circle) is the
+/// origin, as PeriDEM rotates reference meshes about the origin (spec 2.5). Polygons given by
+/// vertices and CSG shapes keep the coordinates they are given; use centered() to move their
+/// centroid to the origin (e.g. for grains), keep them as they are for containers and walls.
+class Shape {
+  public:
+    // ---- 2D primitives (the z coordinate is ignored by 2D queries).
+    /// Disc of radius r.
+    static Shape circle(double r);
+    /// Ellipse with semi-axis a along x and b along y.
+    static Shape ellipse(double a, double b);
+    /// Regular n-gon with circumradius r; vertex k at angle phase + 2 pi k / n. The default phase
+    /// puts a vertex on the +x axis (PeriDEM's hexagon).
+    static Shape regular_polygon(int n, double r, double phase = 0);
+    /// Equilateral triangle, circumradius r, vertices (0, r), (-r cos30, -r sin30), (r cos30,
+    /// -r sin30) (spec 2.5).
+    static Shape triangle(double r);
+    /// Axis-aligned square with circumradius r (side r sqrt 2), vertices at 45 + k 90 degrees.
+    static Shape square(double r);
+    /// Regular hexagon, circumradius r, a vertex on +x (spec 2.5).
+    static Shape hexagon(double r);
+    /// Axis-aligned rectangle lx by ly centred at the origin.
+    static Shape rectangle(double lx, double ly);
+    /// Axis-aligned rectangle with corners (x0, y0) and (x1, y1) (kept where it is).
+    static Shape rectangle_corners(double x0, double y0, double x1, double y1);
+    /// PeriDEM's concave drum, bounding radius r, full neck width w (0 < w < r): vertices
+    /// (w/2, 0), (r/2, r sqrt3/2), (-r/2, r sqrt3/2), (-w/2, 0), (-r/2, -r sqrt3/2),
+    /// (r/2, -r sqrt3/2) (spec 2.5).
+    static Shape drum2d(double r, double w);
+    /// Simple polygon (at least 3 vertices, no self-intersection, CW or CCW; stored CCW).
+    static Shape polygon(std::vector<Vec2> vertices);
+
+    // ---- CSG (2D only). Children keep their placements (use translated()/rotated()).
+    /// Union of parts (at least 2). Its area and centroid come from the exact Boolean union of the
+    /// polygonal boundaries (curves as inscribed polygons, see curve_segments).
+    static Shape unite(std::vector<Shape> parts);
+    /// base minus every tool (at least 1), e.g. annulus = difference(circle(21e-3),
+    /// {circle(20e-3)}).
+    static Shape difference(Shape base, std::vector<Shape> tools);
+
+    // ---- 3D primitives, centred at the origin.
+    static Shape sphere(double r);
+    /// Axis-aligned box lx by ly by lz.
+    static Shape box(double lx, double ly, double lz);
+    /// Cylinder of radius r, axis z, z in [-l/2, l/2].
+    static Shape cylinder(double r, double l);
+
+    // ---- placement
+    /// This shape moved by (dx, dy, dz) m (dz must be 0 for a 2D shape).
+    Shape translated(double dx, double dy, double dz = 0) const;
+    /// This shape rotated by theta rad about the z axis through the origin.
+    Shape rotated(double theta) const;
+    /// This shape translated so that its centroid is the origin.
+    Shape centered() const;
+
+    // ---- queries: about the placed shape, i.e. after placement() is applied
+    ShapeKind kind() const;
+    int dimension() const; ///< 2 or 3
+    /// Short description, e.g. "hexagon(r=0.001)" or "difference(circle(r=0.021), circle(r=0.02))".
+    std::string name() const;
+    /// Exact area (2D, m2) or volume (3D, m3). Circles pi r^2, ellipses pi a b, polygons by the
+    /// shoelace formula. CSG: from the Boolean result; with curved parts it is low by at most
+    /// 6.3e-6 relative to the curved parts' areas (curve_segments).
+    double area_or_volume() const;
+    /// Centroid, m (exact for primitives and polygons; CSG as area_or_volume()).
+    Vec3 centroid() const;
+    /// Maximum distance of the shape from the frame origin (the reference point), m. Exact for
+    /// primitives (also translated/rotated) and unions of them; for a difference with curved
+    /// parts an upper bound within 5e-6 of the curved radii.
+    double bounding_radius() const;
+    /// An axis-aligned box containing the shape: {xmin, ymin, zmin, xmax, ymax, zmax}, m (exact
+    /// for unrotated primitives; 2D shapes have z range [0, 0]).
+    std::array<double, 6> bounding_box() const;
+    /// True if the point lies in the closed shape. Exact for circles, ellipses, rectangles, 3D
+    /// primitives and their CSG (evaluated on the tree, no polygonisation); polygons use CGAL's
+    /// exact predicates.
+    bool contains(double x, double y, double z = 0) const;
+    /// Signed distance to the boundary, m: positive inside, negative outside. Exact for circles,
+    /// rectangles, polygons and 3D primitives; for ellipses and CSG the distance to the polygonal
+    /// boundary (CGAL squared distance) made conservative (never larger than the true value) by
+    /// the polygonisation tolerance. Cost O(boundary edges) for those.
+    double clearance(double x, double y, double z = 0) const;
+
+    // ---- structure (for meshers)
+    /// Kind-specific parameters in the shape's own frame (before placement()): circle {r}; ellipse
+    /// {a, b}; regular_polygon {n, r, phase}; rectangle {lx, ly}; drum2d {r, w}; sphere {r}; box
+    /// {lx, ly, lz}; cylinder {r, l}; polygon and CSG {}.
+    const std::vector<double>& parameters() const;
+    /// Vertices (CCW, own frame) of polygonal kinds (regular_polygon, rectangle, drum2d, polygon).
+    const std::vector<Vec2>& vertices() const;
+    /// CSG operands: for difference, the base first.
+    const std::vector<Shape>& children() const;
+    /// Placement of this shape's own frame in the frame of whoever holds it (identity for shapes
+    /// made by the factories; set by translated()/rotated()).
+    const Placement& placement() const;
+
+    struct Node; ///< implementation (shapes.cpp)
+
+  private:
+    friend struct ShapeAccess;
+    explicit Shape(std::shared_ptr<const Node> node)
+        : node_(std::move(node)) {}
+    std::shared_ptr<const Node> node_;
+};
+
+} // namespace pd::geometry
