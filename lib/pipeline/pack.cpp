@@ -36,15 +36,9 @@ void pack(const PackOptions& opt, Context& ctx) {
         std::filesystem::remove(tmp, ec);
         throw;
     }
-    double vol = 0, exact = 0;
-    for (double v : m.nodes.volume)
-        vol += v;
-    for (double r : m.bodies.bounding_radius)
-        exact += std::numbers::pi * r * r;
-    ctx.log.info("wrote {}: {} bodies, {} nodes, {} bonds, {} materials; sum of nodal volumes "
-                 "{:.6e} m2 vs {:.6e} m2 of the discs ({:+.3f}%)",
-                 opt.output, m.bodies.num(), m.nodes.num(), m.bonds.num(), m.materials.size(),
-                 vol, exact, 100.0 * (vol - exact) / exact);
+    ctx.log.info("wrote {}: {} bodies, {} walls, {} nodes, {} bonds, {} materials", opt.output,
+                 m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(),
+                 m.materials.size());
 }
 
 } // namespace pd::pipeline

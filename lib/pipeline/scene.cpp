@@ -3,13 +3,17 @@
 
 #include "core/errors.hpp"
 #include "mesh/discretize.hpp"
+#include "geometry/packing.hpp"
+#include "geometry/shapes.hpp"
 #include "mesh/gmsh_mesher.hpp"
+#include "mesh/shape_mesher.hpp"
 #include "model/pmb.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <numbers>
 #include <set>
@@ -137,15 +141,207 @@ std::string text(const json& o, const std::string& where, const std::string& key
     return s;
 }
 
-struct Disc {
-    std::array<double, 3> center;
-    double radius;
-    std::int32_t material;
-    std::int32_t group;
-    std::array<double, 3> velocity;
-    bool fixed;
-    double orientation;
+/// A named reference shape and how to mesh it.
+struct ShapeSpec {
+    geometry::Shape shape;
+    std::string method = "gmsh"; ///< gmsh | grid | file
+    std::string file;            ///< .msh path (method file)
+    bool quads = false;
+    double mesh_size = 0; ///< 0: the scene's discretization.mesh_size
 };
+
+/// One particle to place.
+struct Instance {
+    std::string shape;
+    std::array<double, 3> center{0, 0, 0};
+    double radius = 0; ///< bounding radius; 0 = the shape as given (scale 1)
+    double orientation = 0;
+    std::int32_t material = 0;
+    std::int32_t group = 0;
+    std::array<double, 3> velocity{0, 0, 0};
+    bool fixed = false;
+    std::string where; ///< scene key, for messages
+};
+
+std::string resolve(const std::string& base, const std::string& file) {
+    std::filesystem::path p(file);
+    return p.is_absolute() || base.empty() ? file : (std::filesystem::path(base) / p).string();
+}
+
+const std::vector<std::string> shape_keys = {
+    "type", "radius", "semi_axes", "sides", "phase", "size", "corners", "neck_width",
+    "vertices", "parts", "base", "minus", "length", "offset", "rotation", "centered"};
+
+geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
+    check_keys(o, w, shape_keys);
+    const auto type = text(o, w, "type", "",
+                           {"circle", "ellipse", "triangle", "square", "hexagon",
+                            "regular_polygon", "rectangle", "drum2d", "polygon", "union",
+                            "difference", "sphere", "box", "cylinder"});
+    if (type.empty())
+        throw ConfigError(w + ".type", "missing: the kind of shape");
+    auto pair = [&](const char* key) {
+        if (!o.contains(key) || !o[key].is_array() || o[key].size() < 2)
+            throw ConfigError(join(w, key), "expected a list of numbers");
+        return std::array<double, 3>{o[key][0].get<double>(), o[key][1].get<double>(),
+                                     o[key].size() > 2 ? o[key][2].get<double>() : 0.0};
+    };
+    auto list = [&](const json& arr, const std::string& ww) {
+        if (!arr.is_array() || arr.empty())
+            throw ConfigError(ww, "expected a list of shapes");
+        std::vector<geometry::Shape> v;
+        for (std::size_t k = 0; k < arr.size(); ++k)
+            v.push_back(parse_shape(arr[k], fmt::format("{}[{}]", ww, k), dim));
+        return v;
+    };
+    geometry::Shape sh = [&]() {
+        if (type == "circle")
+            return geometry::Shape::circle(positive(o, w, "radius", 0, true));
+        if (type == "ellipse") {
+            auto a = pair("semi_axes");
+            return geometry::Shape::ellipse(a[0], a[1]);
+        }
+        if (type == "triangle")
+            return geometry::Shape::triangle(positive(o, w, "radius", 0, true));
+        if (type == "square")
+            return geometry::Shape::square(positive(o, w, "radius", 0, true));
+        if (type == "hexagon")
+            return geometry::Shape::hexagon(positive(o, w, "radius", 0, true));
+        if (type == "regular_polygon")
+            return geometry::Shape::regular_polygon(
+                static_cast<int>(positive(o, w, "sides", 0, true)),
+                positive(o, w, "radius", 0, true), number(o, w, "phase", 0));
+        if (type == "rectangle") {
+            if (o.contains("corners")) {
+                const auto& c = o["corners"];
+                if (!c.is_array() || c.size() != 2)
+                    throw ConfigError(w + ".corners", "expected [[x0, y0], [x1, y1]]");
+                return geometry::Shape::rectangle_corners(c[0][0].get<double>(),
+                                                          c[0][1].get<double>(),
+                                                          c[1][0].get<double>(),
+                                                          c[1][1].get<double>());
+            }
+            auto a = pair("size");
+            return geometry::Shape::rectangle(a[0], a[1]);
+        }
+        if (type == "drum2d")
+            return geometry::Shape::drum2d(positive(o, w, "radius", 0, true),
+                                           positive(o, w, "neck_width", 0, true));
+        if (type == "polygon") {
+            if (!o.contains("vertices") || !o["vertices"].is_array())
+                throw ConfigError(w + ".vertices", "expected [[x, y], ...]");
+            std::vector<geometry::Vec2> v;
+            for (const auto& p : o["vertices"])
+                v.push_back({p[0].get<double>(), p[1].get<double>()});
+            return geometry::Shape::polygon(v);
+        }
+        if (type == "union") {
+            if (!o.contains("parts"))
+                throw ConfigError(w + ".parts", "missing");
+            return geometry::Shape::unite(list(o["parts"], w + ".parts"));
+        }
+        if (type == "difference") {
+            if (!o.contains("base") || !o.contains("minus"))
+                throw ConfigError(w, "a difference needs base and minus");
+            return geometry::Shape::difference(parse_shape(o["base"], w + ".base", dim),
+                                               list(o["minus"], w + ".minus"));
+        }
+        if (type == "sphere")
+            return geometry::Shape::sphere(positive(o, w, "radius", 0, true));
+        if (type == "box") {
+            auto a = pair("size");
+            return geometry::Shape::box(a[0], a[1], a[2]);
+        }
+        return geometry::Shape::cylinder(positive(o, w, "radius", 0, true),
+                                         positive(o, w, "length", 0, true));
+    }();
+    if (o.contains("rotation"))
+        sh = sh.rotated(number(o, w, "rotation", 0));
+    if (o.contains("offset")) {
+        auto t = pair("offset");
+        sh = sh.translated(t[0], t[1], t[2]);
+    }
+    if (boolean(o, w, "centered", false))
+        sh = sh.centered();
+    if (sh.dimension() != dim)
+        throw ConfigError(w + ".type", fmt::format("a {}D shape in a {}D scene", sh.dimension(),
+                                                   dim));
+    return sh;
+}
+
+ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim,
+                           const std::string& base) {
+    auto keys = shape_keys;
+    keys.insert(keys.end(), {"mesh", "file", "quads", "mesh_size"});
+    check_keys(o, w, keys);
+    json geo = json::object();
+    for (auto it = o.begin(); it != o.end(); ++it)
+        if (std::find(shape_keys.begin(), shape_keys.end(), it.key()) != shape_keys.end())
+            geo[it.key()] = *it;
+    ShapeSpec sp{parse_shape(geo, w, dim)};
+    sp.method = text(o, w, "mesh", "gmsh", {"gmsh", "grid", "file"});
+    if (sp.method == "file") {
+        sp.file = resolve(base, text(o, w, "file", ""));
+        if (sp.file.empty())
+            throw ConfigError(w + ".file", "missing: the .msh file of this shape");
+    }
+    sp.quads = boolean(o, w, "quads", false);
+    sp.mesh_size = o.contains("mesh_size") ? positive(o, w, "mesh_size", 0) : 0.0;
+    return sp;
+}
+
+/// Grains must not overlap: for every pair whose bounding spheres intersect, no node of one may
+/// lie inside the other's shape (exact shape tests in the reference frame).
+void check_overlaps(const model::Model& m, const std::vector<Instance>& inst,
+                    const std::map<std::string, ShapeSpec>& shapes) {
+    const auto& B = m.bodies;
+    const std::size_t nb = B.num();
+    std::vector<std::size_t> order(nb);
+    for (std::size_t k = 0; k < nb; ++k)
+        order[k] = k;
+    auto lo = [&](std::size_t b) { return B.center[3 * b] - B.bounding_radius[b]; };
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return lo(a) < lo(b); });
+    auto inside = [&](std::size_t a, std::size_t b) -> std::int64_t {
+        // First node of body a strictly inside body b's shape, or -1.
+        const auto& sh = shapes.at(inst[b].shape).shape;
+        const double c = std::cos(B.orientation[b]), sn = std::sin(B.orientation[b]);
+        const double tol = 1e-9 * sh.bounding_radius();
+        for (auto i = B.begin(a); i < B.end(a); ++i) {
+            const double* x = &m.nodes.x0[3 * static_cast<std::size_t>(i)];
+            const double dx = x[0] - B.center[3 * b], dy = x[1] - B.center[3 * b + 1],
+                         dz = x[2] - B.center[3 * b + 2];
+            const double s = B.scale[b];
+            const double X = (c * dx + sn * dy) / s, Y = (-sn * dx + c * dy) / s, Z = dz / s;
+            if (sh.clearance(X, Y, Z) > tol)
+                return i - B.begin(a);
+        }
+        return -1;
+    };
+    for (std::size_t ia = 0; ia < nb; ++ia) {
+        const auto a = order[ia];
+        for (std::size_t ib = ia + 1; ib < nb; ++ib) {
+            const auto b = order[ib];
+            if (lo(b) > B.center[3 * a] + B.bounding_radius[a])
+                break;
+            const double d = std::hypot(B.center[3 * a] - B.center[3 * b],
+                                        B.center[3 * a + 1] - B.center[3 * b + 1],
+                                        B.center[3 * a + 2] - B.center[3 * b + 2]);
+            if (d >= B.bounding_radius[a] + B.bounding_radius[b])
+                continue;
+            std::size_t p = a, q = b;
+            auto node = inside(a, b);
+            if (node < 0) {
+                node = inside(b, a);
+                std::swap(p, q);
+            }
+            if (node >= 0)
+                throw ConfigError(
+                    fmt::format("{}, {}", inst[std::min(p, q)].where, inst[std::max(p, q)].where),
+                    fmt::format("grains overlap: node {} of the {} lies inside the {}", node,
+                                p < q ? "first" : "second", p < q ? "second" : "first"));
+        }
+    }
+}
 
 } // namespace
 
@@ -157,16 +353,15 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     } catch (const json::parse_error& e) {
         throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
     }
-    check_keys(root, "", {"title", "dimension", "planar", "materials", "discretization",
+    check_keys(root, "", {"title", "dimension", "planar", "materials", "discretization", "shapes",
                           "particles", "walls", "cracks", "contact", "loading", "solver"});
     model::Model m;
     m.scene_json = root.dump(2);
     m.title = text(root, "", "title", source);
     m.dimension = static_cast<int>(number(root, "", "dimension", 2));
-    if (m.dimension != 2)
-        throw ConfigError("dimension", fmt::format("{} is not supported yet: pdgrain v0.1 meshes "
-                                                   "2D discs (3D shapes: issue #3)",
-                                                   m.dimension));
+    if (m.dimension != 2 && m.dimension != 3)
+        throw ConfigError("dimension", fmt::format("{}: expected 2 or 3", m.dimension));
+    const std::string base_dir = std::filesystem::path(source).parent_path().string();
     m.planar = text(root, "", "planar", "plane_stress", {"plane_stress", "plane_strain"}) ==
                        "plane_strain"
                    ? model::Planar::plane_strain
@@ -233,22 +428,25 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     const double horizon_abs = has_h ? positive(dz, "discretization", "horizon", 0) : 0;
     const double horizon_factor = has_m ? positive(dz, "discretization", "horizon_factor", 0) : 0;
 
-    // Particles.
+    // Reference shapes: named in "shapes", or the implicit "disc" (a circle whose radius is the
+    // first disc particle's).
+    std::map<std::string, ShapeSpec> shapes;
+    std::vector<std::string> shape_order; // in order of first use
+    if (root.contains("shapes")) {
+        if (!root["shapes"].is_object())
+            throw ConfigError("shapes", "expected an object of named shapes");
+        for (auto it = root["shapes"].begin(); it != root["shapes"].end(); ++it)
+            shapes.emplace(it.key(), parse_shape_spec(*it, "shapes." + it.key(), m.dimension,
+                                                      base_dir));
+    }
+
+    // Particles: explicit entries and generators (random_pack, lattice, csv).
     if (!root.contains("particles") || !root["particles"].is_array() || root["particles"].empty())
-        throw ConfigError("particles", "missing: give a list of particles");
-    std::vector<Disc> discs;
-    for (std::size_t k = 0; k < root["particles"].size(); ++k) {
-        const json& p = root["particles"][k];
-        const std::string w = fmt::format("particles[{}]", k);
-        check_keys(p, w, {"shape", "radius", "center", "material", "velocity", "fixed", "group",
-                          "orientation"});
-        text(p, w, "shape", "disc", {"disc"});
-        Disc d;
-        d.radius = positive(p, w, "radius", 0, true);
-        d.center = vec(p, w, "center", m.dimension, {0, 0, 0}, true);
+        throw ConfigError("particles", "missing: give a list of particles or generators");
+    std::vector<Instance> inst;
+    auto common = [&](const json& p, const std::string& w, Instance& d) {
         d.velocity = vec(p, w, "velocity", m.dimension, {0, 0, 0});
         d.fixed = boolean(p, w, "fixed", false);
-        d.orientation = number(p, w, "orientation", 0);
         d.group = static_cast<std::int32_t>(number(p, w, "group", 0));
         if (d.group < 0 || d.group > 1000)
             throw ConfigError(w + ".group", "must be in [0, 1000]");
@@ -259,79 +457,235 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         if (it == material_index.end())
             throw ConfigError(w + ".material", "no material named '" + mat + "' in materials");
         d.material = it->second;
-        discs.push_back(d);
+        d.where = w;
+    };
+    auto shape_named = [&](const std::string& name, const std::string& w, double radius) {
+        if (name == "disc" && !shapes.count("disc")) {
+            if (!(radius > 0))
+                throw ConfigError(w + ".radius", "a disc needs a positive radius");
+            shapes.emplace("disc", ShapeSpec{geometry::Shape::circle(radius)});
+        }
+        if (!shapes.count(name))
+            throw ConfigError(w + ".shape", "no shape named '" + name + "' in shapes");
+        if (std::find(shape_order.begin(), shape_order.end(), name) == shape_order.end())
+            shape_order.push_back(name);
+        const auto& sp = shapes.at(name);
+        if (sp.shape.dimension() != m.dimension)
+            throw ConfigError(w + ".shape", fmt::format("'{}' is a {}D shape in a {}D scene", name,
+                                                        sp.shape.dimension(), m.dimension));
+    };
+    auto fractions_of = [&](const json& g, const std::string& w, std::vector<std::string>& names) {
+        std::vector<double> fr;
+        if (!g.contains("shapes")) {
+            names = {"disc"};
+            return std::vector<double>{1.0};
+        }
+        if (!g["shapes"].is_object() || g["shapes"].empty())
+            throw ConfigError(w + ".shapes", "expected {\"shape name\": fraction, ...}");
+        for (auto it = g["shapes"].begin(); it != g["shapes"].end(); ++it) {
+            if (!it->is_number() || it->get<double>() < 0)
+                throw ConfigError(w + ".shapes." + it.key(), "fraction must be a number >= 0");
+            names.push_back(it.key());
+            fr.push_back(it->get<double>());
+        }
+        return fr;
+    };
+    for (std::size_t k = 0; k < root["particles"].size(); ++k) {
+        const json& p = root["particles"][k];
+        const std::string w = fmt::format("particles[{}]", k);
+        if (!p.is_object())
+            throw ConfigError(w, "expected an object");
+        if (!p.contains("generate")) {
+            check_keys(p, w, {"shape", "radius", "center", "material", "velocity", "fixed",
+                              "group", "orientation"});
+            Instance d;
+            d.shape = text(p, w, "shape", "disc");
+            d.radius = p.contains("radius") ? positive(p, w, "radius", 0) : 0.0;
+            d.center = vec(p, w, "center", m.dimension, {0, 0, 0}, true);
+            d.orientation = number(p, w, "orientation", 0);
+            common(p, w, d);
+            shape_named(d.shape, w, d.radius);
+            inst.push_back(d);
+            continue;
+        }
+        const auto type = text(p, w, "generate", "", {"random_pack", "lattice", "csv"});
+        Instance tmpl;
+        std::vector<geometry::Grain> grains;
+        std::vector<std::string> names;
+        if (type == "random_pack") {
+            check_keys(p, w, {"generate", "container", "count", "radius", "shapes", "gap", "seed",
+                              "orientation", "material", "velocity", "fixed", "group"});
+            if (!p.contains("container"))
+                throw ConfigError(w + ".container", "missing: the region to fill (a shape)");
+            const auto container = parse_shape(p["container"], w + ".container", m.dimension);
+            geometry::PackOptions o;
+            o.count = static_cast<std::size_t>(positive(p, w, "count", 0, true));
+            if (!p.contains("radius") || !p["radius"].is_array() || p["radius"].size() != 2)
+                throw ConfigError(w + ".radius", "expected [rmin, rmax] (m)");
+            o.rmin = p["radius"][0].get<double>();
+            o.rmax = p["radius"][1].get<double>();
+            if (!(o.rmin > 0 && o.rmax >= o.rmin))
+                throw ConfigError(w + ".radius", "need 0 < rmin <= rmax");
+            o.fractions = fractions_of(p, w, names);
+            o.gap = number(p, w, "gap", 0);
+            o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
+            o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) ==
+                                   "random";
+            geometry::PackStats st;
+            grains = geometry::random_pack(container, o, &st);
+            log.info("{}: packed {} grains (packing fraction {:.3f}, {} by relaxation)", w,
+                     grains.size(), st.packing_fraction, st.relaxed);
+        } else if (type == "lattice") {
+            check_keys(p, w, {"generate", "origin", "counts", "spacing", "stagger", "jitter",
+                              "radius", "shapes", "gap", "seed", "orientation", "material",
+                              "velocity", "fixed", "group"});
+            geometry::LatticeOptions o;
+            o.dimension = m.dimension;
+            o.origin = vec(p, w, "origin", m.dimension, {0, 0, 0}, true);
+            o.spacing = vec(p, w, "spacing", m.dimension, {0, 0, 0}, true);
+            if (!p.contains("counts") || !p["counts"].is_array() ||
+                p["counts"].size() != static_cast<std::size_t>(m.dimension))
+                throw ConfigError(w + ".counts", "expected grain counts per axis");
+            for (int d = 0; d < m.dimension; ++d)
+                o.counts[static_cast<std::size_t>(d)] = p["counts"][static_cast<std::size_t>(d)]
+                                                            .get<std::size_t>();
+            if (!p.contains("radius") || !p["radius"].is_array() || p["radius"].size() != 2)
+                throw ConfigError(w + ".radius", "expected [rmin, rmax] (m)");
+            o.rmin = p["radius"][0].get<double>();
+            o.rmax = p["radius"][1].get<double>();
+            o.stagger = boolean(p, w, "stagger", false);
+            o.jitter = number(p, w, "jitter", 0);
+            o.gap = number(p, w, "gap", 0);
+            o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
+            o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) ==
+                                   "random";
+            o.fractions = fractions_of(p, w, names);
+            grains = geometry::lattice(o);
+        } else {
+            check_keys(p, w, {"generate", "file", "shapes", "material", "velocity", "fixed",
+                              "group"});
+            const auto file = text(p, w, "file", "");
+            if (file.empty())
+                throw ConfigError(w + ".file", "missing: a CSV of x, y, z, r, orientation, shape");
+            if (!p.contains("shapes") || !p["shapes"].is_array())
+                throw ConfigError(w + ".shapes", "expected the list of shape names, by CSV index");
+            for (const auto& n : p["shapes"])
+                names.push_back(n.get<std::string>());
+            grains = geometry::read_particle_csv(resolve(base_dir, file));
+        }
+        common(p, w, tmpl);
+        for (std::size_t g = 0; g < grains.size(); ++g) {
+            const auto& gr = grains[g];
+            if (gr.shape < 0 || static_cast<std::size_t>(gr.shape) >= names.size())
+                throw ConfigError(w + ".shapes", fmt::format("grain {} uses shape index {}, "
+                                                             "only {} shapes are named",
+                                                             g, gr.shape, names.size()));
+            Instance d = tmpl;
+            d.shape = names[static_cast<std::size_t>(gr.shape)];
+            d.center = gr.center;
+            d.radius = gr.radius;
+            d.orientation = gr.orientation;
+            d.where = fmt::format("{} grain {}", w, g);
+            shape_named(d.shape, w, d.radius);
+            inst.push_back(d);
+        }
     }
-    // Overlap check (sweep in x).
-    {
-        std::vector<std::size_t> order(discs.size());
-        for (std::size_t k = 0; k < order.size(); ++k)
-            order[k] = k;
-        std::sort(order.begin(), order.end(), [&](auto a, auto b) {
-            return discs[a].center[0] - discs[a].radius < discs[b].center[0] - discs[b].radius;
-        });
-        for (std::size_t ia = 0; ia < order.size(); ++ia)
-            for (std::size_t ib = ia + 1; ib < order.size(); ++ib) {
-                const auto &a = discs[order[ia]], &b = discs[order[ib]];
-                if (b.center[0] - b.radius > a.center[0] + a.radius)
-                    break;
-                const double d = std::hypot(a.center[0] - b.center[0], a.center[1] - b.center[1],
-                                            a.center[2] - b.center[2]);
-                if (d < a.radius + b.radius)
-                    throw ConfigError(
-                        fmt::format("particles[{}], particles[{}]", std::min(order[ia], order[ib]),
-                                    std::max(order[ia], order[ib])),
-                        fmt::format("grains overlap: centre distance {:.6g} m < sum of radii "
-                                    "{:.6g} m",
-                                    d, a.radius + b.radius));
-            }
+    if (inst.empty())
+        throw ConfigError("particles", "no particle was placed");
+
+    // Mesh each reference shape once (spec 2.5).
+    struct Ref {
+        std::int32_t index;
+        std::vector<double> volume, bdist;
+        double h, bound;
+    };
+    std::map<std::string, Ref> refs;
+    for (const auto& name : shape_order) {
+        const auto& sp = shapes.at(name);
+        const double h = sp.mesh_size > 0 ? sp.mesh_size : h_ref;
+        model::RefMesh mesh;
+        if (sp.method == "gmsh") {
+            mesh::MeshOptions mo;
+            mo.quads = sp.quads;
+            mesh = mesh::mesh_shape(sp.shape, h, mo);
+        } else if (sp.method == "grid") {
+            mesh = mesh::uniform_grid(sp.shape, h);
+        } else {
+            mesh = mesh::read_msh(sp.file, m.dimension);
+        }
+        mesh.name = name;
+        Ref r;
+        r.index = static_cast<std::int32_t>(m.ref_meshes.size());
+        r.volume = mesh::nodal_volumes(mesh, m.dimension);
+        r.h = mesh::min_edge_length(mesh);
+        r.bound = std::max(mesh::bounding_radius(mesh), sp.shape.bounding_radius());
+        r.bdist = mesh::boundary_distance(mesh, m.dimension);
+        double vsum = 0;
+        for (std::size_t i = 0; i < r.volume.size(); ++i) {
+            if (!(r.volume[i] > 0))
+                throw ConfigError("shapes." + name,
+                                  fmt::format("mesh node {} has non-positive volume {}", i,
+                                              r.volume[i]));
+            vsum += r.volume[i];
+        }
+        const double exact = sp.shape.area_or_volume();
+        log.info("shape '{}' ({}): {} nodes, {} cells, min spacing {:.4g} m, sum of nodal "
+                 "volumes / exact = {:.5f}",
+                 name, sp.shape.name(), mesh.nodes.size() / 3,
+                 mesh.cells.size() / static_cast<std::size_t>(mesh.nodes_per_cell), r.h,
+                 vsum / exact);
+        refs.emplace(name, std::move(r));
+        m.ref_meshes.push_back(std::move(mesh));
     }
 
-    // Reference disc meshed once; instances scaled from it.
-    const double r_ref = discs.front().radius;
-    model::RefMesh ref = mesh::mesh_disc(r_ref, h_ref);
-    const auto ref_vol = mesh::lumped_volumes(ref, m.dimension);
-    const double ref_h = mesh::min_edge_length(ref);
-    const double ref_bound = mesh::bounding_radius(ref);
-    double ref_area = 0;
-    for (double v : ref_vol)
-        ref_area += v;
-    log.info("reference disc r = {:.4g} m, target h = {:.4g} m: {} nodes, {} triangles, min "
-             "spacing {:.4g} m, sum of volumes / pi r^2 = {:.5f}",
-             r_ref, h_ref, ref.nodes.size() / 3, ref.cells.size() / 3, ref_h,
-             ref_area / (std::numbers::pi * r_ref * r_ref));
-    m.ref_meshes.push_back(ref);
-    const std::size_t nref = ref.nodes.size() / 3;
+    // Place instances: x = t + s R(theta) X, volumes x s^d, h x s (spec 2.5).
     auto& B = m.bodies;
-    for (std::size_t k = 0; k < discs.size(); ++k) {
-        const auto& d = discs[k];
-        const double s = d.radius / r_ref;
+    for (std::size_t k = 0; k < inst.size(); ++k) {
+        const auto& d = inst[k];
+        const auto& r = refs.at(d.shape);
+        const auto& ref = m.ref_meshes[static_cast<std::size_t>(r.index)];
+        const double s = d.radius > 0 ? d.radius / shapes.at(d.shape).shape.bounding_radius()
+                                      : 1.0;
+        const std::size_t nref = ref.nodes.size() / 3;
         mesh::place_instance(ref, d.orientation, s, d.center, m.nodes.x0);
         const double sd = std::pow(s, m.dimension);
         for (std::size_t i = 0; i < nref; ++i) {
-            m.nodes.volume.push_back(ref_vol[i] * sd);
+            m.nodes.volume.push_back(r.volume[i] * sd);
             m.nodes.body.push_back(static_cast<std::int32_t>(k));
         }
         B.node_offsets.push_back(B.node_offsets.back() + static_cast<model::offset_t>(nref));
         B.material.push_back(d.material);
         B.group.push_back(d.group);
-        B.ref_mesh.push_back(0);
+        B.ref_mesh.push_back(r.index);
         B.kind.push_back(model::BodyKind::particle);
         B.fixed.push_back(d.fixed ? 1 : 0);
         B.center.insert(B.center.end(), d.center.begin(), d.center.end());
-        B.bounding_radius.push_back(ref_bound * s);
+        B.bounding_radius.push_back(r.bound * s);
         B.orientation.push_back(d.orientation);
         B.scale.push_back(s);
         B.initial_velocity.insert(B.initial_velocity.end(), d.velocity.begin(), d.velocity.end());
-        const double h = ref_h * s;
+        const double h = r.h * s;
         const double delta = has_h ? horizon_abs : horizon_factor * h;
         if (delta < 2.0 * h)
             throw ConfigError(has_h ? "discretization.horizon" : "discretization.horizon_factor",
-                              fmt::format("particles[{}]: horizon {:.4g} m is less than 2 x its "
-                                          "mesh spacing h = {:.4g} m (too coarse: refine "
-                                          "mesh_size or enlarge the horizon)",
-                                          k, delta, h));
+                              fmt::format("{}: horizon {:.4g} m is less than 2 x its mesh "
+                                          "spacing h = {:.4g} m (too coarse: refine mesh_size "
+                                          "or enlarge the horizon)",
+                                          d.where, delta, h));
         B.mesh_size.push_back(h);
         B.horizon.push_back(delta);
+    }
+    check_overlaps(m, inst, shapes);
+    {
+        double vol = 0, exact = 0;
+        for (double v : m.nodes.volume)
+            vol += v;
+        for (std::size_t b = 0; b < B.num(); ++b)
+            exact += shapes.at(inst[b].shape).shape.area_or_volume() *
+                     std::pow(B.scale[b], m.dimension);
+        log.info("{} particles: sum of nodal volumes {:.6e} m{} against {:.6e} m{} of the exact "
+                 "shapes ({:+.3f}%)",
+                 B.num(), vol, m.dimension, exact, m.dimension, 100.0 * (vol - exact) / exact);
     }
     m.bonds = model::build_bonds(m.nodes, B);
 
@@ -497,14 +851,15 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         double rc_max = 0;
         for (const auto& p : m.contact)
             rc_max = std::max(rc_max, p.radius);
-        const auto bd = mesh::boundary_distance(ref, m.dimension);
         m.nodes.surface.resize(m.nodes.num());
-        for (std::size_t b = 0; b < B.num(); ++b)
+        for (std::size_t b = 0; b < B.num(); ++b) {
+            const auto& bd = refs.at(inst[b].shape).bdist;
             for (auto i = B.begin(b); i < B.end(b); ++i) {
                 const auto k = static_cast<std::size_t>(i - B.begin(b));
                 m.nodes.surface[static_cast<std::size_t>(i)] =
                     bd[k] * B.scale[b] <= rc_max + B.mesh_size[b] ? 1 : 0;
             }
+        }
     }
 
     // Loading.
