@@ -50,13 +50,14 @@ void Model::check_consistency() const {
         PD_CHECK(m >= 0 && static_cast<std::size_t>(m) < materials.size(), "material index");
 }
 
-Bonds build_bonds(const Nodes& nodes, const Bodies& bodies) {
+Bonds build_bonds(const Nodes& nodes, const Bodies& bodies, bool partial_cutoff) {
     const std::size_t n = nodes.num();
     Bonds bonds;
     bonds.offsets.assign(n + 1, 0);
     std::vector<std::vector<index_t>> rows(n);
     for (std::size_t b = 0; b < bodies.num(); ++b) {
         const double delta = bodies.horizon[b];
+        const double reach = delta + (partial_cutoff ? 0.5 * bodies.mesh_size[b] : 0.0);
         const auto i0 = bodies.begin(b), i1 = bodies.end(b);
         if (i1 <= i0)
             continue;
@@ -68,14 +69,14 @@ Bonds build_bonds(const Nodes& nodes, const Bodies& bodies) {
         auto key = [&](const double* x, int off[3]) {
             std::int64_t c[3];
             for (int d = 0; d < 3; ++d)
-                c[d] = static_cast<std::int64_t>(std::floor((x[d] - lo[d]) / delta)) + off[d];
+                c[d] = static_cast<std::int64_t>(std::floor((x[d] - lo[d]) / reach)) + off[d];
             return (c[0] * 1000003LL + c[1]) * 1000003LL + c[2];
         };
         std::unordered_map<std::int64_t, std::vector<index_t>> cells;
         int zero[3] = {0, 0, 0};
         for (auto i = i0; i < i1; ++i)
             cells[key(&nodes.x0[3 * i], zero)].push_back(static_cast<index_t>(i));
-        const double d2 = delta * delta;
+        const double d2 = reach * reach;
         for (auto i = i0; i < i1; ++i) {
             const double* xi = &nodes.x0[3 * i];
             auto& row = rows[i];
@@ -93,7 +94,7 @@ Bonds build_bonds(const Nodes& nodes, const Bodies& bodies) {
                             double r2 = 0;
                             for (int d = 0; d < 3; ++d)
                                 r2 += (xj[d] - xi[d]) * (xj[d] - xi[d]);
-                            if (r2 < d2) // strict, spec 2.4
+                            if (r2 < d2) // strict
                                 row.push_back(j);
                         }
                     }

@@ -290,6 +290,18 @@ ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim,
     return sp;
 }
 
+/// Signed distance of x from a wall at t = 0 (positive on the free side).
+double wall_distance(const model::Wall& w, const double* x) {
+    if (w.shape == model::WallShape::plane) {
+        double d = 0;
+        for (std::size_t q = 0; q < 3; ++q)
+            d += (x[q] - w.point[q]) * w.normal[q];
+        return d;
+    }
+    const double r = std::hypot(x[0] - w.point[0], x[1] - w.point[1], x[2] - w.point[2]);
+    return w.shape == model::WallShape::circle_inside ? w.radius - r : r - w.radius;
+}
+
 /// Grains must not overlap: for every pair whose bounding spheres intersect, no node of one may
 /// lie inside the other's shape (exact shape tests in the reference frame).
 void check_overlaps(const model::Model& m, const std::vector<Instance>& inst,
@@ -419,7 +431,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     if (!root.contains("discretization"))
         throw ConfigError("discretization", "missing: give mesh_size and horizon");
     const json& dz = root["discretization"];
-    check_keys(dz, "discretization", {"mesh_size", "horizon", "horizon_factor"});
+    check_keys(dz, "discretization", {"mesh_size", "horizon", "horizon_factor", "bond_cutoff"});
+    const bool partial_cutoff =
+        text(dz, "discretization", "bond_cutoff", "partial", {"partial", "strict"}) == "partial";
     const double h_ref = positive(dz, "discretization", "mesh_size", 0, true);
     const bool has_h = dz.contains("horizon"), has_m = dz.contains("horizon_factor");
     if (has_h == has_m)
@@ -687,7 +701,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                  "shapes ({:+.3f}%)",
                  B.num(), vol, m.dimension, exact, m.dimension, 100.0 * (vol - exact) / exact);
     }
-    m.bonds = model::build_bonds(m.nodes, B);
+    m.bonds = model::build_bonds(m.nodes, B, partial_cutoff);
 
     // Rigid analytic walls.
     std::int32_t max_group = *std::max_element(B.group.begin(), B.group.end());
@@ -733,28 +747,20 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         for (auto& wall : m.walls)
             if (wall.group < 0)
                 wall.group = max_group + 1;
-        // Grains must start on the free side of every wall.
-        for (std::size_t b = 0; b < B.num(); ++b)
-            for (std::size_t k = 0; k < m.walls.size(); ++k) {
-                const auto& wall = m.walls[k];
-                const double* c = &B.center[3 * b];
-                double d = 0;
-                if (wall.shape == model::WallShape::plane) {
-                    for (int q = 0; q < 3; ++q)
-                        d += (c[q] - wall.point[static_cast<std::size_t>(q)]) *
-                             wall.normal[static_cast<std::size_t>(q)];
-                } else {
-                    const double r = std::hypot(c[0] - wall.point[0], c[1] - wall.point[1],
-                                                c[2] - wall.point[2]);
-                    d = wall.shape == model::WallShape::circle_inside ? wall.radius - r
-                                                                       : r - wall.radius;
-                }
-                if (d < B.bounding_radius[b])
-                    throw ConfigError(fmt::format("particles[{}], walls[{}]", b, k),
-                                      fmt::format("the grain crosses the wall (distance of its "
-                                                  "centre {:.6g} m < its radius {:.6g} m)",
-                                                  d, B.bounding_radius[b]));
+        // Every node must start on the free side of every wall.
+        for (std::size_t k = 0; k < m.walls.size(); ++k) {
+            const auto& wall = m.walls[k];
+            for (std::size_t i = 0; i < m.nodes.num(); ++i) {
+                const double d = wall_distance(wall, &m.nodes.x0[3 * i]);
+                if (d < 0)
+                    throw ConfigError(
+                        fmt::format("{}, walls[{}]", inst[static_cast<std::size_t>(
+                                                               m.nodes.body[i])].where,
+                                    k),
+                        fmt::format("the grain crosses the wall (a node lies {:.4g} m behind it)",
+                                    -d));
             }
+        }
     }
 
     // Contact table: a default law for every pair of groups (particles and walls), overridden
@@ -843,6 +849,22 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 throw ConfigError(w + ".groups",
                                   fmt::format("no particle or wall is in group {} or {}", ga, gb));
         }
+    }
+
+    // Grains that start within the contact radius of a wall are pushed off at t = 0.
+    for (std::size_t k = 0; k < m.walls.size(); ++k) {
+        const auto& wall = m.walls[k];
+        std::size_t close = 0;
+        double rc = 0;
+        for (const auto& p : m.contact)
+            if (p.group_a == wall.group || p.group_b == wall.group)
+                rc = std::max(rc, p.radius);
+        for (std::size_t i = 0; i < m.nodes.num(); ++i)
+            close += wall_distance(wall, &m.nodes.x0[3 * i]) < rc;
+        if (close > 0)
+            log.warn("walls[{}]: {} nodes start within the contact radius {:.3g} m of the wall "
+                     "(they are pushed off at t = 0)",
+                     k, close, rc);
     }
 
     // Contact-capable nodes: within the largest contact radius (plus a mesh spacing for grains
@@ -975,7 +997,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         throw ConfigError("solver", "missing: give at least final_time");
     const json& sv = root["solver"];
     check_keys(sv, "solver", {"final_time", "dt", "dt_safety", "output_interval", "observe_every",
-                              "integrator", "contact_skin", "checkpoint_interval"});
+                              "integrator", "contact_skin", "checkpoint_interval",
+                              "surface_correction"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
     if (sv.contains("dt") && sv["dt"].is_string())
@@ -990,6 +1013,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         throw ConfigError("solver.output_interval", "must be >= 0");
     S.observe_every = static_cast<std::int64_t>(positive(sv, "solver", "observe_every", 1));
     S.checkpoint_interval = number(sv, "solver", "checkpoint_interval", 0);
+    S.surface_correction = boolean(sv, "solver", "surface_correction", true);
     if (S.checkpoint_interval < 0)
         throw ConfigError("solver.checkpoint_interval", "must be >= 0 (0 = at the end only)");
     S.integrator = text(sv, "solver", "integrator", "velocity_verlet",

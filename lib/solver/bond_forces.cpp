@@ -16,7 +16,7 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     const offset_t* off = b.offsets.data();
     const index_t* nb = b.neighbor.data();
     const double* xi = b.xi.data();
-    const double* beta = b.beta.data();
+    const double* beta = b.stiff.data(); // partial volume x quadrature correction
     std::uint8_t* alive = b.alive.data();
     double energy = 0;
     std::int64_t broken = 0;

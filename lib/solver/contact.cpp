@@ -34,8 +34,7 @@ std::size_t ContactList::num_eligible() const {
     return static_cast<std::size_t>(std::count(eligible_.begin(), eligible_.end(), 1));
 }
 
-template <bool Friction>
-std::int64_t ContactList::add_forces_impl(State& s, double dt, double& energy,
+std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                                           std::vector<BodyPairForce>* normal) const {
     const auto n = static_cast<std::int64_t>(s.n);
     std::int64_t touching = 0;
@@ -63,41 +62,17 @@ std::int64_t ContactList::add_forces_impl(State& s, double dt, double& energy,
                 fi[0] += a * d0;
                 fi[1] += a * d1;
                 fi[2] += a * d2;
-                if constexpr (Friction) {
-                    if (law.friction > 0) {
-                        // Coulomb friction on i along the slip of j relative to i, limited so
-                        // that it never reverses the relative slip within one step (stick);
-                        // symmetric in i and j, so momentum is conserved.
-                        const double nx = d0 / r, ny = d1 / r, nz = d2 / r;
-                        double vt[3] = {s.v[3 * j] - s.v[3 * i], s.v[3 * j + 1] - s.v[3 * i + 1],
-                                        s.v[3 * j + 2] - s.v[3 * i + 2]};
-                        const double vn = vt[0] * nx + vt[1] * ny + vt[2] * nz;
-                        vt[0] -= vn * nx;
-                        vt[1] -= vn * ny;
-                        vt[2] -= vn * nz;
-                        const double vtm = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-                        if (vtm > 0) {
-                            const double mi = s.rho[ii] * s.vol[ii];
-                            const double mj = s.rho[static_cast<std::size_t>(j)] * s.vol[j];
-                            const double stop = mi * mj / (mi + mj) * vtm / dt; // N
-                            const double ft =
-                                std::min(law.friction * fn * s.vol[ii], stop) / (s.vol[ii] * vtm);
-                            fi[0] += ft * vt[0];
-                            fi[1] += ft * vt[1];
-                            fi[2] += ft * vt[2];
-                        }
-                    }
-                }
                 e += 0.25 * law.stiffness * (law.radius - r) * (law.radius - r) * s.vol[ii] *
                      s.vol[j];
                 if (i < j) {
                     ++touching;
-                    if (normal && law.restitution < 1) {
+                    if (normal && (law.restitution < 1 || law.friction > 0)) {
                         // force on j's body from i's body: +fn V_i along d/r
                         const double c = fn * s.vol[ii] / r;
                         mine.push_back({s.body[ii], s.body[static_cast<std::size_t>(j)],
                                         static_cast<index_t>(i), j,
-                                        {c * d0, c * d1, c * d2}});
+                                        {c * d0, c * d1, c * d2}, law.friction,
+                                        law.restitution < 1});
                     }
                 }
             }
@@ -276,14 +251,12 @@ void ContactList::rebuild(const State& s) {
     }
 }
 
-std::int64_t ContactList::add_forces(State& s, double dt, double& energy,
+std::int64_t ContactList::add_forces(State& s, double& energy,
                                      std::vector<BodyPairForce>* normal) const {
     energy = 0;
     if (!active_ || !built_)
         return 0;
-    if (any_friction_)
-        return add_forces_impl<true>(s, dt, energy, normal);
-    return add_forces_impl<false>(s, dt, energy, normal);
+    return add_forces_impl(s, energy, normal);
 }
 
 } // namespace pd::solver

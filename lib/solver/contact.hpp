@@ -18,6 +18,8 @@ struct BodyPairForce {
     std::int32_t a, b;
     index_t i, j;
     double force[3];
+    double friction; ///< Coulomb coefficient of the pair's law
+    bool damped;     ///< the law has restitution < 1
 };
 
 class ContactList {
@@ -41,11 +43,11 @@ class ContactList {
     }
     /// Nodes that take part in contact (near a grain's surface or exposed by damage).
     std::size_t num_eligible() const;
-    /// Adds contact (and Coulomb friction) force densities to s.f; returns the number of node
-    /// pairs in contact and their spring energy sum 1/2 Kn (R_c - R)^2 V_i V_j (J). With `normal`,
-    /// also lists the normal force of every touching pair (sorted, for grain-level damping).
-    std::int64_t add_forces(State& s, double dt, double& energy,
-                            std::vector<BodyPairForce>* normal) const;
+    /// Adds normal contact force densities to s.f; returns the number of node pairs in contact
+    /// and their spring energy sum 1/2 Kn (R_c - R)^2 V_i V_j (J). With `normal`, also lists the
+    /// normal force of every touching pair whose law damps or has friction (sorted by node, so
+    /// damping and friction, applied from this list, do not depend on the thread schedule).
+    std::int64_t add_forces(State& s, double& energy, std::vector<BodyPairForce>* normal) const;
     const std::vector<model::ContactPair>& laws() const { return laws_; }
     bool any_friction() const { return any_friction_; }
     std::int64_t rebuilds() const { return rebuilds_; }
@@ -53,8 +55,7 @@ class ContactList {
 
   private:
     void rebuild(const State& s);
-    template <bool Friction>
-    std::int64_t add_forces_impl(State& s, double dt, double& energy,
+    std::int64_t add_forces_impl(State& s, double& energy,
                                  std::vector<BodyPairForce>* normal) const;
 
     bool active_ = false;

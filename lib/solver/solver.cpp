@@ -7,6 +7,7 @@
 #include "solver/bond_forces.hpp"
 
 #include <algorithm>
+
 #include <array>
 #include <cmath>
 #include <limits>
@@ -135,6 +136,37 @@ Solver::Solver(const model::Model& m) : m_(m) {
                        (M_PI * std::pow(m.bodies.horizon[b], m.dimension + 2));
         law_.rrep[b] = 0.95 * m.bodies.mesh_size[b];
     }
+    // PMB surface and quadrature correction: the discrete family of node i integrates the bond
+    // energy of an isotropic stretch as sum_j xi beta V_j instead of the continuum's integral of
+    // xi over the horizon (2 pi delta^3 / 3 in 2D, pi delta^4 in 3D). lambda_i is their ratio
+    // (about 1 in the bulk with the partial cut-off, up to about 2 for the truncated families of
+    // surface nodes, 1.3 in the bulk with the strict cut-off); bond ij gets (lambda_i +
+    // lambda_j) / 2. This removes the surface softening for isotropic deformation (an
+    // energy-based correction in the spirit of Madenci & Oterkus 2014, ch. 4). Off with
+    // solver.surface_correction = false (PeriDEM parity).
+    b_.stiff = b_.beta;
+    if (m.solver.surface_correction) {
+        std::vector<double> lambda(n, 1.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto b = static_cast<std::size_t>(s_.body[i]);
+            const double d = m.bodies.horizon[b];
+            const double cont = m.dimension == 3 ? M_PI * std::pow(d, 4)
+                                                 : 2.0 * M_PI * std::pow(d, 3) / 3.0;
+            double sum = 0;
+            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                sum += b_.xi[kk] * b_.beta[kk] * s_.vol[static_cast<std::size_t>(b_.neighbor[kk])];
+            }
+            if (sum > 0)
+                lambda[i] = cont / sum;
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                b_.stiff[kk] = b_.beta[kk] * 0.5 *
+                               (lambda[i] + lambda[static_cast<std::size_t>(b_.neighbor[kk])]);
+            }
+    }
     if (law_.any_lps) {
         b_.omega.resize(b_.neighbor.size());
         for (std::size_t i = 0; i < n; ++i) {
@@ -158,8 +190,11 @@ Solver::Solver(const model::Model& m) : m_(m) {
     walls_ = std::make_unique<WallContact>(m, skin > 0 ? skin : 1.0);
     wall_load_.force.assign(3 * m.walls.size(), 0.0);
     wall_load_.moment.assign(3 * m.walls.size(), 0.0);
-    for (const auto& p : m.contact)
+    for (const auto& p : m.contact) {
         damping_ = damping_ || (p.restitution < 1 && p.stiffness > 0);
+        friction_ = friction_ || (p.friction > 0 && p.stiffness > 0);
+    }
+    records_ = damping_ || friction_;
     body_mass_.assign(nb, 0.0);
     for (std::size_t i = 0; i < n; ++i)
         body_mass_[static_cast<std::size_t>(s_.body[i])] += s_.rho[i] * s_.vol[i];
@@ -168,7 +203,7 @@ Solver::Solver(const model::Model& m) : m_(m) {
     t_contact_ = timers_.id("pd::solver::contact_forces");
     t_integrate_ = timers_.id("pd::solver::integrate");
     t_walls_ = timers_.id("pd::solver::wall_contact");
-    t_damping_ = timers_.id("pd::solver::damping");
+    t_damping_ = timers_.id("pd::solver::damping_friction");
 }
 
 StableDt Solver::stable_dt() const {
@@ -182,7 +217,7 @@ StableDt Solver::stable_dt() const {
         double k = 0;
         for (auto q = b_.offsets[i]; q < b_.offsets[i + 1]; ++q) {
             const auto qq = static_cast<std::size_t>(q);
-            k += law_.c[b] * b_.beta[qq] * s_.vol[static_cast<std::size_t>(b_.neighbor[qq])] /
+            k += law_.c[b] * b_.stiff[qq] * s_.vol[static_cast<std::size_t>(b_.neighbor[qq])] /
                  b_.xi[qq];
         }
         if (k > 0)
@@ -247,8 +282,8 @@ void Solver::compute_forces() {
             contact_->update(s_);
         }
         ScopedTimer t(timers_, t_contact_);
-        contact_count_ = contact_->add_forces(s_, dt_, contact_energy_,
-                                              damping_ ? &pair_records_ : nullptr);
+        contact_count_ = contact_->add_forces(s_, contact_energy_,
+                                              records_ ? &pair_records_ : nullptr);
     } else {
         contact_count_ = 0;
         contact_energy_ = 0;
@@ -257,7 +292,7 @@ void Solver::compute_forces() {
     if (walls_->active()) {
         ScopedTimer t(timers_, t_walls_);
         walls_->update(s_);
-        walls_->add_forces(s_, dt_, wall_load_, damping_ ? &wall_records_ : nullptr);
+        walls_->add_forces(s_, wall_load_, records_ ? &wall_records_ : nullptr);
         contact_count_ += wall_load_.touching;
         contact_energy_ += wall_load_.energy;
     } else {
@@ -267,6 +302,10 @@ void Solver::compute_forces() {
     if (damping_) {
         ScopedTimer t(timers_, t_damping_);
         apply_damping(pair_records_, wall_records_);
+    }
+    if (friction_) {
+        ScopedTimer t(timers_, t_damping_);
+        apply_friction();
     }
     if (!fbc_.empty())
         std::fill(fbc_.begin(), fbc_.end(), 0.0);
@@ -344,6 +383,7 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
         return com.emplace(b, c).first->second;
     };
     std::map<std::int32_t, std::array<double, 3>> accel;
+    unload_.clear();
     for (const auto& [key, F] : force) {
         const double fm = std::sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]);
         if (!(fm > 0))
@@ -379,6 +419,7 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
             continue; // loading (approach): no damping
         // Unloading: the grains get back only eps^2 of their normal contact force.
         const double scale = 1.0 - law->restitution * law->restitution;
+        unload_[key] = law->restitution * law->restitution; // friction limit, next evaluation
         // Damping force on b (or on the grain, for a wall): -(1 - eps^2) F, F the contact force
         // on it.
         const double Fd[3] = {-scale * F[0], -scale * F[1], -scale * F[2]};
@@ -470,6 +511,89 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
     b_.alive = alive;
     broken_total_ = broken_total;
     exposed_at_ = -1; // expose damaged nodes at the first force evaluation
+}
+
+void Solver::apply_friction() {
+    // Coulomb friction on every touching node pair (and node-wall pair) with mu > 0: a force
+    // mu |F_n| opposing the tangential slip, F_n scaled like the normal force under unloading
+    // (hysteretic damping), and never more than what stops the slip within the step (stick).
+    // Serial over the sorted contact records: deterministic; equal and opposite on node pairs.
+    auto factor = [&](std::int32_t a, std::int32_t b) {
+        auto it = unload_.find({a, b});
+        return it == unload_.end() ? 1.0 : it->second;
+    };
+    for (const auto& r : pair_records_) {
+        if (!(r.friction > 0))
+            continue;
+        const auto i = static_cast<std::size_t>(r.i), j = static_cast<std::size_t>(r.j);
+        const double fm = std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] +
+                                    r.force[2] * r.force[2]);
+        if (!(fm > 0))
+            continue;
+        double n[3], vt[3], vn = 0;
+        for (std::size_t d = 0; d < 3; ++d) {
+            n[d] = r.force[d] / fm;
+            vt[d] = s_.v[3 * j + d] - s_.v[3 * i + d];
+            vn += vt[d] * n[d];
+        }
+        double vtm = 0;
+        for (std::size_t d = 0; d < 3; ++d) {
+            vt[d] -= vn * n[d];
+            vtm += vt[d] * vt[d];
+        }
+        vtm = std::sqrt(vtm);
+        if (!(vtm > 0))
+            continue;
+        const double mi = s_.rho[i] * s_.vol[i], mj = s_.rho[j] * s_.vol[j];
+        const double stop = mi * mj / (mi + mj) * vtm / dt_;
+        const double ft = std::min(r.friction * fm * factor(r.a, r.b), stop) / vtm; // N per m/s
+        for (std::size_t d = 0; d < 3; ++d) {
+            s_.f[3 * i + d] += ft * vt[d] / s_.vol[i]; // i is dragged along the slip of j
+            s_.f[3 * j + d] -= ft * vt[d] / s_.vol[j];
+        }
+    }
+    for (const auto& r : wall_records_) {
+        if (!(r.friction > 0))
+            continue;
+        const auto i = static_cast<std::size_t>(r.node);
+        const auto w = static_cast<std::size_t>(r.wall);
+        const double fm = std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] +
+                                    r.force[2] * r.force[2]);
+        if (!(fm > 0))
+            continue;
+        const auto p = wall_pose(m_.walls[w], s_.time);
+        const double* x = &s_.x[3 * i];
+        const double rr[3] = {x[0] - p.centre[0], x[1] - p.centre[1], x[2] - p.centre[2]};
+        const double vw[3] = {p.velocity[0] + p.omega[1] * rr[2] - p.omega[2] * rr[1],
+                              p.velocity[1] + p.omega[2] * rr[0] - p.omega[0] * rr[2],
+                              p.velocity[2] + p.omega[0] * rr[1] - p.omega[1] * rr[0]};
+        double n[3], vt[3], vn = 0;
+        for (std::size_t d = 0; d < 3; ++d) {
+            n[d] = r.force[d] / fm;
+            vt[d] = vw[d] - s_.v[3 * i + d];
+            vn += vt[d] * n[d];
+        }
+        double vtm = 0;
+        for (std::size_t d = 0; d < 3; ++d) {
+            vt[d] -= vn * n[d];
+            vtm += vt[d] * vt[d];
+        }
+        vtm = std::sqrt(vtm);
+        if (!(vtm > 0))
+            continue;
+        const double stop = s_.rho[i] * s_.vol[i] * vtm / dt_;
+        const double ft =
+            std::min(r.friction * fm * factor(r.body, -1 - r.wall), stop) / vtm;
+        double F[3];
+        for (std::size_t d = 0; d < 3; ++d) {
+            s_.f[3 * i + d] += ft * vt[d] / s_.vol[i];
+            F[d] = -ft * vt[d]; // received by the wall
+            wall_load_.force[3 * w + d] += F[d];
+        }
+        wall_load_.moment[3 * w + 0] += rr[1] * F[2] - rr[2] * F[1];
+        wall_load_.moment[3 * w + 1] += rr[2] * F[0] - rr[0] * F[2];
+        wall_load_.moment[3 * w + 2] += rr[0] * F[1] - rr[1] * F[0];
+    }
 }
 
 void Solver::initialize() {

@@ -95,6 +95,7 @@ class Solver {
     void break_precracks();
     void apply_damping(const std::vector<BodyPairForce>& pairs,
                        const std::vector<BodyWallForce>& walls);
+    void apply_friction();
 
     const model::Model& m_;
     State s_;
@@ -103,10 +104,13 @@ class Solver {
     std::unique_ptr<ContactList> contact_;
     std::unique_ptr<WallContact> walls_;
     WallLoad wall_load_;
-    bool damping_ = false; ///< some contact law has restitution < 1
+    bool damping_ = false;  ///< some contact law has restitution < 1
+    bool friction_ = false; ///< some contact law has mu > 0
+    bool records_ = false;  ///< damping or friction need the touching-pair records
     std::vector<double> body_mass_;
     std::vector<BodyPairForce> pair_records_;
     std::vector<BodyWallForce> wall_records_;
+    UnloadMap unload_; ///< unloading pairs of this evaluation (friction limits)
     double dt_ = 0;
     double g_[3] = {0, 0, 0};
     double elastic_energy_ = 0;

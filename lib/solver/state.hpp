@@ -7,6 +7,8 @@
 #include "model/model.hpp"
 
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace pd::solver {
@@ -34,12 +36,18 @@ struct State {
     double time = 0;
 };
 
+/// Share of the normal contact force a grain pair (a < b) or grain-wall pair (body, -1 - wall)
+/// transmits while its contact unloads under hysteretic damping (eps^2); absent = 1. Friction
+/// capacity follows it, so damping does not inflate the friction limit of a resting grain.
+using UnloadMap = std::map<std::pair<std::int32_t, std::int32_t>, double>;
+
 struct BondData {
     std::vector<offset_t> offsets;
     std::vector<index_t> neighbor;
     std::vector<double> xi;          ///< reference bond length, m
     std::vector<double> beta;        ///< partial-volume factor (spec 1.3)
     std::vector<double> omega;       ///< influence J(xi / delta) (state-based law; else empty)
+    std::vector<double> stiff;       ///< PMB: beta times the bond's quadrature correction
     std::vector<std::uint8_t> alive; ///< 1 intact, 0 broken
 };
 

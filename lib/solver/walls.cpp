@@ -164,8 +164,7 @@ void WallContact::rebuild(const State& s) {
     }
 }
 
-void WallContact::add_forces(State& s, double dt, WallLoad& load,
-                             std::vector<BodyWallForce>* normal) const {
+void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce>* normal) const {
     const std::size_t nw = walls_.size();
     load.force.assign(3 * nw, 0.0);
     load.moment.assign(3 * nw, 0.0);
@@ -190,7 +189,6 @@ void WallContact::add_forces(State& s, double dt, WallLoad& load,
         for (std::int64_t a = 0; a < nn; ++a) {
             const auto i = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(a)]);
             const double* x = &s.x[3 * i];
-            const double* v = &s.v[3 * i];
             const auto g = static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
             for (auto k = offsets_[static_cast<std::size_t>(a)];
                  k < offsets_[static_cast<std::size_t>(a) + 1]; ++k) {
@@ -202,31 +200,11 @@ void WallContact::add_forces(State& s, double dt, WallLoad& load,
                     continue;
                 const double fn = law.stiffness * (law.radius - d) * s.vol[i]; // density
                 double f[3] = {fn * n[0], fn * n[1], fn * n[2]};
-                if (normal)
+                if (normal && (law.restitution < 1 || law.friction > 0))
                     mine.push_back({s.body[i], static_cast<std::int32_t>(w),
                                     static_cast<index_t>(i),
-                                    {f[0] * s.vol[i], f[1] * s.vol[i], f[2] * s.vol[i]}});
-                if (law.friction > 0) {
-                    // Wall surface velocity at x: v_w + omega x (x - c).
-                    const auto& p = pose[w];
-                    const double r[3] = {x[0] - p.centre[0], x[1] - p.centre[1],
-                                         x[2] - p.centre[2]};
-                    const double vw[3] = {p.velocity[0] + p.omega[1] * r[2] - p.omega[2] * r[1],
-                                          p.velocity[1] + p.omega[2] * r[0] - p.omega[0] * r[2],
-                                          p.velocity[2] + p.omega[0] * r[1] - p.omega[1] * r[0]};
-                    double vt[3] = {vw[0] - v[0], vw[1] - v[1], vw[2] - v[2]};
-                    const double vn = vt[0] * n[0] + vt[1] * n[1] + vt[2] * n[2];
-                    for (int q = 0; q < 3; ++q)
-                        vt[q] -= vn * n[q];
-                    const double vtm = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-                    if (vtm > 0) {
-                        // Coulomb, never reversing the slip within one step (stick).
-                        const double ft =
-                            std::min(law.friction * fn, s.rho[i] * vtm / dt) / vtm;
-                        for (int q = 0; q < 3; ++q)
-                            f[q] += ft * vt[q];
-                    }
-                }
+                                    {f[0] * s.vol[i], f[1] * s.vol[i], f[2] * s.vol[i]},
+                                    law.friction, law.restitution < 1});
                 for (int q = 0; q < 3; ++q)
                     s.f[3 * i + q] += f[q];
                 const double F[3] = {-f[0] * s.vol[i], -f[1] * s.vol[i], -f[2] * s.vol[i]};

@@ -40,6 +40,8 @@ struct BodyWallForce {
     std::int32_t wall;
     index_t node;
     double force[3]; ///< normal force on the body, N
+    double friction; ///< Coulomb coefficient of the law
+    bool damped;     ///< the law has restitution < 1
 };
 
 class WallContact {
@@ -48,8 +50,9 @@ class WallContact {
     bool active() const { return active_; }
     /// Rebuilds candidate lists if a node or a wall moved more than half the skin.
     bool update(const State& s);
-    /// Adds wall contact (and friction) force densities to s.f at time s.time.
-    void add_forces(State& s, double dt, WallLoad& load, std::vector<BodyWallForce>* normal) const;
+    /// Adds normal wall contact force densities to s.f at time s.time; with `normal`, lists the
+    /// touching node-wall pairs whose law damps or has friction (sorted by node).
+    void add_forces(State& s, WallLoad& load, std::vector<BodyWallForce>* normal) const;
     std::size_t num_walls() const { return walls_.size(); }
     std::int64_t rebuilds() const { return rebuilds_; }
     double max_radius() const { return rc_max_; }

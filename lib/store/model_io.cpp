@@ -253,6 +253,7 @@ void write_model(h5::File& f, const model::Model& m) {
     put_scalar(f, s + "/checkpoint_interval", S.checkpoint_interval, "s");
     put_scalar(f, s + "/observe_every", S.observe_every, "1");
     put_scalar(f, s + "/contact_skin", S.contact_skin, "m");
+    put_scalar(f, s + "/surface_correction", static_cast<std::int32_t>(S.surface_correction), "1");
     f.set_attr(s, "integrator", S.integrator == model::Integrator::velocity_verlet
                                     ? "velocity_verlet"
                                     : "symplectic_euler");
@@ -465,6 +466,8 @@ model::Model read_model(const h5::File& f) {
                                 : 0.0;
     S.observe_every = get_scalar<std::int64_t>(f, s + "/observe_every");
     S.contact_skin = get_scalar<double>(f, s + "/contact_skin");
+    S.surface_correction = !f.exists(s + "/surface_correction") ||
+                           get_scalar<std::int32_t>(f, s + "/surface_correction") != 0;
     const std::string integ = f.attr_string(s, "integrator");
     if (integ == "velocity_verlet")
         S.integrator = model::Integrator::velocity_verlet;

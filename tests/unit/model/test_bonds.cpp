@@ -33,7 +33,7 @@ TEST(Bonds, CsrInvariantsAgainstBruteForce) {
     nodes.x0[1] = 0.5;
     nodes.x0[3] = 0.625; // exactly 0.125 = delta away in binary floating point
     nodes.x0[4] = 0.5;
-    Bonds bonds = build_bonds(nodes, bodies);
+    Bonds bonds = build_bonds(nodes, bodies, false);
     const std::size_t n = nodes.num();
     ASSERT_EQ(bonds.offsets.size(), n + 1);
     EXPECT_TRUE(std::is_sorted(bonds.offsets.begin(), bonds.offsets.end()));

@@ -64,6 +64,7 @@ TEST(Pmb, TwoNodeBondForce) {
     b.neighbor = {1, 0};
     b.xi = {r, r};
     b.beta = {1, 1};
+    b.stiff = {1, 1};
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};
@@ -100,6 +101,7 @@ TEST(Pmb, BreakingIsSymmetricAndTensionOnly) {
     b.neighbor = {1, 0};
     b.xi = {r, r};
     b.beta = {1, 1};
+    b.stiff = {1, 1};
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};

@@ -1,0 +1,306 @@
+// SPDX-License-Identifier: MIT
+// Accuracy against analytic answers (issue 4): uniaxial stretch of a plate (strain = sigma / E,
+// error falling with h at fixed m = delta / h), wave speed sqrt(E / rho) in a bar, a pre-notched
+// plate breaking from the notch tip, Coulomb friction on an incline (stick below tan = mu, slide
+// above with the analytic acceleration), restitution of a non-circular grain, and a 3D
+// two-sphere collision.
+#include "core/log.hpp"
+#include "pipeline/scene.hpp"
+#include "solver/solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+namespace {
+
+using namespace pd;
+
+const Log quiet("test", 0, Verbosity::quiet);
+
+/// Mass-weighted mean of a nodal vector field over body b.
+std::array<double, 3> com(const model::Model& m, const solver::State& s, std::size_t b,
+                          const std::vector<double>& field) {
+    std::array<double, 3> p{0, 0, 0};
+    double mass = 0;
+    for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
+        const auto ii = static_cast<std::size_t>(i);
+        const double mi = s.rho[ii] * s.vol[ii];
+        mass += mi;
+        for (std::size_t d = 0; d < 3; ++d)
+            p[d] += mi * field[3 * ii + d];
+    }
+    for (double& x : p)
+        x /= mass;
+    return p;
+}
+
+/// Relative error of the interior strain of a plate L x W under uniaxial stress sigma, pulled by
+/// a force density on its right band and held on its left band, relaxed to equilibrium.
+double plate_strain_error(double h) {
+    const double L = 8e-3, W = 4e-3, E = 1e9, rho = 1000, sigma = 1e5;
+    const double delta = 3 * h;
+    const std::string sc = fmt::format(R"({{"dimension": 2,
+      "materials": {{"m": {{"density": {}, "youngs_modulus": {}}}}},
+      "discretization": {{"mesh_size": {}, "horizon_factor": 3}},
+      "shapes": {{"plate": {{"type": "rectangle", "size": [{}, {}], "mesh": "grid"}}}},
+      "particles": [{{"shape": "plate", "center": [0, 0], "material": "m"}}],
+      "loading": {{"viscous_damping": {}, "conditions": [
+        {{"kind": "displacement", "region": {{"min": [{}, {}], "max": [{}, {}]}},
+          "components": ["x"], "value": 0}},
+        {{"kind": "displacement", "region": {{"min": [{}, {}], "max": [{}, {}]}},
+          "components": ["y"], "value": 0}},
+        {{"kind": "force_density", "region": {{"min": [{}, {}], "max": [{}, {}]}},
+          "components": ["x"], "value": 1}}]}},
+      "solver": {{"final_time": 1}}}})",
+                                       rho, E, h, L, W,
+                                       // critical damping of the fundamental mode
+                                       2 * M_PI * std::sqrt(E / rho) / (2 * L), -L, -W,
+                                       -L / 2 + delta + 1e-9, W, -L, -1e-9, -L / 2 + delta + 1e-9,
+                                       1e-9, L / 2 - delta - 1e-9, -W, L, W);
+    auto m = pipeline::build_scene(sc, "plate", quiet);
+    // Force density so that the band carries sigma W (per unit thickness) in total.
+    auto& pull = m.loading.conditions[2];
+    double band = 0;
+    for (auto i : pull.nodes)
+        band += m.nodes.volume[static_cast<std::size_t>(i)];
+    pull.amplitude = sigma * W / band;
+    solver::Solver s(m);
+    s.set_dt(0.8 * s.stable_dt().limit);
+    s.initialize();
+    const int steps = static_cast<int>(40 * 2 * L / std::sqrt(E / rho) / s.dt());
+    for (int k = 0; k < steps; ++k)
+        s.advance();
+    // Least-squares slope of u_x(X) over the interior (two horizons from every edge).
+    const auto& st = s.state();
+    double sx = 0, su = 0, sxx = 0, sxu = 0;
+    int cnt = 0;
+    for (std::size_t i = 0; i < st.n; ++i) {
+        const double X = st.x0[3 * i], Y = st.x0[3 * i + 1];
+        if (std::abs(X) > L / 2 - 2 * delta - 1e-3 || std::abs(Y) > W / 2 - 2 * delta)
+            continue;
+        sx += X;
+        su += st.u[3 * i];
+        sxx += X * X;
+        sxu += X * st.u[3 * i];
+        ++cnt;
+    }
+    const double slope = (cnt * sxu - sx * su) / (cnt * sxx - sx * sx);
+    return slope / (sigma / E) - 1;
+}
+
+TEST(Accuracy, UniaxialStretchConverges) {
+    const double e1 = plate_strain_error(2e-4), e2 = plate_strain_error(1e-4);
+    std::printf("[ plate ] relative strain error h=0.2mm %.4f, h=0.1mm %.4f, rate %.2f\n", e1,
+                e2, std::log(std::abs(e1) / std::abs(e2)) / std::log(2.0));
+    EXPECT_LT(std::abs(e2), 0.05);
+    EXPECT_LT(std::abs(e2), std::abs(e1)); // the error falls as h shrinks at fixed m
+}
+
+TEST(Accuracy, WaveSpeedInABar) {
+    const double L = 40e-3, W = 2e-3, E = 1e9, rho = 1000, v0 = 0.1, h = 1e-4;
+    const double c0 = std::sqrt(E / rho);
+    const std::string sc = fmt::format(R"({{"dimension": 2,
+      "materials": {{"m": {{"density": {}, "youngs_modulus": {}}}}},
+      "discretization": {{"mesh_size": {}, "horizon_factor": 3}},
+      "shapes": {{"bar": {{"type": "rectangle", "size": [{}, {}], "mesh": "grid"}}}},
+      "particles": [{{"shape": "bar", "center": [{}, 0], "material": "m"}}],
+      "loading": {{"conditions": [
+        {{"kind": "displacement", "region": {{"min": [-1, -1], "max": [{}, 1]}},
+          "components": ["x"], "value": {}, "time_function": "linear"}}]}},
+      "solver": {{"final_time": 1}}}})",
+                                       rho, E, h, L, W, L / 2, 3 * h, v0);
+    auto m = pipeline::build_scene(sc, "bar", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.5 * s.stable_dt().limit);
+    s.initialize();
+    // Two stations on the axis; arrival = the axial velocity first exceeding v0 / 2.
+    const double xs[2] = {12e-3, 28e-3};
+    std::size_t node[2] = {0, 0};
+    for (int k = 0; k < 2; ++k)
+        for (std::size_t i = 0; i < s.state().n; ++i)
+            if (std::hypot(s.state().x0[3 * i] - xs[k], s.state().x0[3 * i + 1]) <
+                std::hypot(s.state().x0[3 * node[k]] - xs[k], s.state().x0[3 * node[k] + 1]))
+                node[k] = i;
+    double arrive[2] = {-1, -1};
+    double prev[2] = {0, 0}, tprev = 0;
+    while (arrive[1] < 0 && s.state().time < 2 * L / c0) {
+        s.advance();
+        for (int k = 0; k < 2; ++k) {
+            const double v = s.state().v[3 * node[k]];
+            if (arrive[k] < 0 && v > 0.5 * v0) // linear interpolation of the crossing
+                arrive[k] = tprev + (s.state().time - tprev) * (0.5 * v0 - prev[k]) / (v - prev[k]);
+            prev[k] = v;
+        }
+        tprev = s.state().time;
+    }
+    ASSERT_GT(arrive[1], 0);
+    const double dx = s.state().x0[3 * node[1]] - s.state().x0[3 * node[0]];
+    const double c = dx / (arrive[1] - arrive[0]);
+    std::printf("[ wave ] measured %.2f m/s, sqrt(E/rho) %.2f m/s, error %.4f\n", c, c0,
+                c / c0 - 1);
+    EXPECT_NEAR(c / c0, 1.0, 0.02);
+}
+
+TEST(Accuracy, NotchedPlateBreaksFromTheTip) {
+    const double L = 10e-3, W = 10e-3, h = 2e-4, delta = 3 * h;
+    const double tip_x = 0;
+    const std::string sc = fmt::format(R"({{"dimension": 2,
+      "materials": {{"m": {{"density": 2440, "youngs_modulus": 72e9, "fracture_energy": 3.8}}}},
+      "discretization": {{"mesh_size": {}, "horizon_factor": 3}},
+      "shapes": {{"plate": {{"type": "rectangle", "size": [{}, {}], "mesh": "grid"}}}},
+      "particles": [{{"shape": "plate", "center": [0, 0], "material": "m"}}],
+      "cracks": [{{"from": [{}, 0.5e-5], "to": [{}, 0.5e-5]}}],
+      "loading": {{"conditions": [
+        {{"kind": "displacement", "region": {{"min": [-1, {}], "max": [1, 1]}},
+          "components": ["y"], "value": 0.2, "time_function": "linear"}},
+        {{"kind": "displacement", "region": {{"min": [-1, -1], "max": [1, {}]}},
+          "components": ["y"], "value": -0.2, "time_function": "linear"}}]}},
+      "solver": {{"final_time": 1}}}})",
+                                       h, L, W, -L, tip_x, W / 2 - delta, -W / 2 + delta);
+    auto m = pipeline::build_scene(sc, "notch", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.8 * s.stable_dt().limit);
+    s.initialize();
+    const auto pre = s.broken_total();
+    ASSERT_GT(pre, 0);
+    // Phi is zero away from the crack before loading breaks anything new.
+    std::vector<double> phi;
+    for (int k = 0; k < 200000 && s.broken_total() == pre; ++k)
+        s.advance();
+    ASSERT_GT(s.broken_total(), pre) << "no new bond broke";
+    // Every bond broken by the loading so far has an end within two horizons of the tip.
+    const auto& b = s.bonds();
+    const auto& st = s.state();
+    int fresh = 0;
+    double far = 0;
+    for (std::size_t i = 0; i < st.n; ++i)
+        for (auto k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
+            const auto j = static_cast<std::size_t>(b.neighbor[static_cast<std::size_t>(k)]);
+            const double xi = st.x0[3 * i], yi = st.x0[3 * i + 1];
+            const double xj = st.x0[3 * j], yj = st.x0[3 * j + 1];
+            const double yc = 0.5e-5;
+            const bool crosses = (yi - yc) * (yj - yc) < 0 &&
+                                 xi + (xj - xi) * (yc - yi) / (yj - yi) <= tip_x;
+            if (b.alive[static_cast<std::size_t>(k)] || crosses)
+                continue;
+            ++fresh;
+            far = std::max(far, std::hypot(xi - tip_x, yi));
+        }
+    EXPECT_GT(fresh, 0);
+    EXPECT_LT(far, 2 * delta);
+}
+
+/// A square block on a rigid floor with gravity tilted by `angle`: the block's downhill
+/// displacement and velocity change between t1 and t2 (after landing).
+std::pair<double, double> incline_slide(double angle, double mu, double t1, double t2) {
+    const std::string sc = fmt::format(R"({{"dimension": 2,
+      "materials": {{"m": {{"density": 1000, "youngs_modulus": 1e8}}}},
+      "discretization": {{"mesh_size": 2.5e-4, "horizon_factor": 3}},
+      "shapes": {{"block": {{"type": "square", "radius": 1.4142135623730951e-3}}}},
+      "particles": [{{"shape": "block", "center": [0, 1.25e-3], "material": "m"}}],
+      "walls": [{{"type": "plane", "point": [0, 0], "normal": [0, 1]}}],
+      "contact": {{"restitution": 0.3, "friction": {}}},
+      "loading": {{"gravity": [{}, {}]}},
+      "solver": {{"final_time": 1}}}})",
+                                       mu, 10 * std::sin(angle), -10 * std::cos(angle));
+    auto m = pipeline::build_scene(sc, "incline", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.7 * s.stable_dt().limit);
+    s.initialize();
+    double x1 = 0, v1 = 0;
+    bool marked = false;
+    while (s.state().time < t2) {
+        s.advance();
+        if (!marked && s.state().time >= t1) {
+            x1 = com(m, s.state(), 0, s.state().x)[0];
+            v1 = com(m, s.state(), 0, s.state().v)[0];
+            marked = true;
+        }
+    }
+    return {com(m, s.state(), 0, s.state().x)[0] - x1, com(m, s.state(), 0, s.state().v)[0] - v1};
+}
+
+TEST(Accuracy, CoulombFrictionOnAnIncline) {
+    const double mu = 0.5, t1 = 0.02, t2 = 0.04;
+    const auto stick = incline_slide(std::atan(0.3), mu, t1, t2);
+    const double th = std::atan(0.8);
+    const auto slide = incline_slide(th, mu, t1, t2);
+    const double a = 10 * (std::sin(th) - mu * std::cos(th)); // sliding: g (sin - mu cos)
+    const double measured = slide.second / (t2 - t1);
+    std::printf("[ incline ] tan = 0.3: moved %.3e m; tan = 0.8: moved %.3e m, acceleration "
+                "%.4f m/s2 (analytic %.4f)\n",
+                stick.first, slide.first, measured, a);
+    EXPECT_NEAR(measured / a, 1.0, 0.05);
+    EXPECT_LT(std::abs(stick.first), 0.05 * slide.first); // sticks (creeps < 5 % of sliding)
+}
+
+TEST(Accuracy, HexagonRestitution) {
+    for (double eps : {0.5, 0.8, 0.95}) {
+        const std::string sc = fmt::format(R"({{"dimension": 2,
+          "materials": {{"m": {{"density": 1200, "youngs_modulus": 3.24e7}}}},
+          "discretization": {{"mesh_size": 2e-4, "horizon_factor": 3}},
+          "shapes": {{"hex": {{"type": "hexagon", "radius": 1e-3}}}},
+          "particles": [{{"shape": "hex", "center": [0, 1.2e-3], "material": "m",
+                          "velocity": [0, -0.5]}}],
+          "walls": [{{"type": "plane", "point": [0, 0], "normal": [0, 1]}}],
+          "contact": {{"restitution": {}}},
+          "solver": {{"final_time": 1}}}})",
+                                           eps);
+        auto m = pipeline::build_scene(sc, "hex", quiet);
+        solver::Solver s(m);
+        s.set_dt(0.7 * s.stable_dt().limit);
+        s.initialize();
+        bool touched = false;
+        for (int k = 0; k < 40000; ++k) {
+            s.advance();
+            const auto c = s.observe().contact_count;
+            touched = touched || c > 0;
+            if (touched && c == 0)
+                break;
+        }
+        const double ratio = com(m, s.state(), 0, s.state().v)[1] / 0.5;
+        std::printf("[ hexagon ] eps %.2f measured %.4f\n", eps, ratio);
+        EXPECT_NEAR(ratio, eps, 0.05 * eps);
+    }
+}
+
+TEST(Accuracy, TwoSpheresCollide3D) {
+    const std::string sc = R"({"dimension": 3,
+      "materials": {"m": {"density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 3e-4, "horizon_factor": 3},
+      "shapes": {"ball": {"type": "sphere", "radius": 1e-3}},
+      "particles": [{"shape": "ball", "center": [-1.2e-3, 0, 0], "material": "m",
+                     "velocity": [0.5, 0, 0]},
+                    {"shape": "ball", "center": [1.2e-3, 0.2e-3, 0], "material": "m",
+                     "velocity": [-0.5, 0, 0], "orientation": 0.4}],
+      "solver": {"final_time": 1}})";
+    auto m = pipeline::build_scene(sc, "spheres", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.7 * s.stable_dt().limit);
+    s.initialize();
+    const auto o0 = s.observe();
+    const double p1 = 0.5 * 1200 * 4.0 / 3.0 * M_PI * 1e-9;
+    bool touched = false;
+    double maxdp = 0, drift = 0;
+    for (int k = 0; k < 20000; ++k) {
+        s.advance();
+        const auto o = s.observe();
+        maxdp = std::max({maxdp, std::abs(o.momentum[0]), std::abs(o.momentum[1]),
+                          std::abs(o.momentum[2])});
+        drift = std::max(drift, std::abs((o.kinetic_energy + o.elastic_energy +
+                                          o.contact_energy) /
+                                             o0.kinetic_energy -
+                                         1));
+        touched = touched || o.contact_count > 0;
+        if (touched && o.contact_count == 0)
+            break;
+    }
+    std::printf("[ spheres ] momentum %.2e (relative), energy drift %.2e\n", maxdp / p1, drift);
+    EXPECT_TRUE(touched);
+    EXPECT_LT(maxdp / p1, 1e-12);
+    EXPECT_LT(drift, 5e-3);
+}
+
+} // namespace
