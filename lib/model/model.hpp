@@ -18,8 +18,8 @@ enum class BodyKind : std::uint8_t { particle = 0, wall = 1 };
 
 /// Peridynamic constitutive law. PMB: bond-based prototype microelastic brittle (spec 1.5);
 /// LPS: ordinary state-based linear peridynamic solid (PeriDEM's PDState, spec 1.3), with
-/// consistent 2D constants.
-enum class Law : std::uint8_t { pmb = 0, lps = 1 };
+/// consistent 2D constants; RNP: regularised nonlinear bond-based potential (Lipton, spec 1.4).
+enum class Law : std::uint8_t { pmb = 0, lps = 1, rnp = 2 };
 
 /// Influence function J(r / delta) of the state-based law (spec 1.1; only its shape matters).
 enum class Influence : std::uint8_t { constant = 0, linear = 1, gaussian = 2 };
@@ -173,6 +173,8 @@ struct SolverSettings {
     Integrator integrator = Integrator::velocity_verlet;
     double contact_skin = 0;        ///< m; 0 = automatic (the largest contact radius)
     bool surface_correction = true; ///< PMB quadrature/surface correction (false: PeriDEM's)
+    /// Nodal fields written in frames besides position (only these are computed at frames).
+    std::vector<std::string> fields{"velocity", "displacement", "force", "damage"};
 };
 
 /// Everything pd-pack writes and pd-solve reads.

@@ -392,17 +392,19 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         for (char ch : mat.name)
             if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'))
                 throw ConfigError(w, "material names may hold letters, digits and '_' only");
-        mat.law = text(*it, w, "law", "pmb", {"pmb", "lps"}) == "lps" ? model::Law::lps
-                                                                       : model::Law::pmb;
-        const auto inf = text(*it, w, "influence", mat.law == model::Law::lps ? "linear"
-                                                                              : "constant",
+        const auto law = text(*it, w, "law", "pmb", {"pmb", "lps", "rnp"});
+        mat.law = law == "lps"   ? model::Law::lps
+                  : law == "rnp" ? model::Law::rnp
+                                 : model::Law::pmb;
+        const auto inf = text(*it, w, "influence", mat.law == model::Law::pmb ? "constant"
+                                                                              : "linear",
                               {"constant", "linear", "gaussian"});
         mat.influence = inf == "linear"     ? model::Influence::linear
                         : inf == "gaussian" ? model::Influence::gaussian
                                             : model::Influence::constant;
         if (mat.law == model::Law::pmb && mat.influence != model::Influence::constant)
             throw ConfigError(w + ".influence", "the PMB law uses J = 1 (constant); influence "
-                                                "functions apply to law \"lps\"");
+                                                "functions apply to laws \"lps\" and \"rnp\"");
         mat.density = positive(*it, w, "density", 0, true);
         mat.youngs_modulus = positive(*it, w, "youngs_modulus", 0, true);
         mat.fracture_energy = number(*it, w, "fracture_energy", 0);
@@ -412,6 +414,10 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             mat.poisson_ratio = number(*it, w, "poisson_ratio", 0.25, true);
             if (!(mat.poisson_ratio > -1 && mat.poisson_ratio < 0.5))
                 throw ConfigError(w + ".poisson_ratio", "must be in (-1, 0.5)");
+        } else if (mat.law == model::Law::rnp) {
+            mat.poisson_ratio = 0.25; // fixed by the law (spec 1.4)
+            if (!(mat.fracture_energy > 0))
+                throw ConfigError(w + ".fracture_energy", "the RNP law needs Gc > 0");
         } else
             mat.poisson_ratio = model::pmb_poisson_ratio(m.dimension, m.planar);
         if (mat.law == model::Law::pmb && it->contains("poisson_ratio") &&
@@ -998,7 +1004,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     const json& sv = root["solver"];
     check_keys(sv, "solver", {"final_time", "dt", "dt_safety", "output_interval", "observe_every",
                               "integrator", "contact_skin", "checkpoint_interval",
-                              "surface_correction"});
+                              "surface_correction", "fields"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
     if (sv.contains("dt") && sv["dt"].is_string())
@@ -1014,6 +1020,19 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     S.observe_every = static_cast<std::int64_t>(positive(sv, "solver", "observe_every", 1));
     S.checkpoint_interval = number(sv, "solver", "checkpoint_interval", 0);
     S.surface_correction = boolean(sv, "solver", "surface_correction", true);
+    if (sv.contains("fields")) {
+        if (!sv["fields"].is_array())
+            throw ConfigError("solver.fields", "expected a list of frame fields");
+        S.fields.clear();
+        for (const auto& x : sv["fields"]) {
+            const std::string n = x.is_string() ? x.get<std::string>() : "";
+            if (n != "velocity" && n != "displacement" && n != "force" && n != "damage")
+                throw ConfigError("solver.fields", "'" + x.dump() + "' is not one of velocity, "
+                                                   "displacement, force, damage (position is "
+                                                   "always written)");
+            S.fields.push_back(n);
+        }
+    }
     if (S.checkpoint_interval < 0)
         throw ConfigError("solver.checkpoint_interval", "must be >= 0 (0 = at the end only)");
     S.integrator = text(sv, "solver", "integrator", "velocity_verlet",

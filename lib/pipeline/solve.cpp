@@ -23,15 +23,23 @@ namespace {
 
 void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<double>& damage,
                  std::vector<double>& force) {
+    // Only the requested fields are computed.
     const auto& st = s.state();
     std::map<std::string, std::span<const double>> data;
     data["position"] = st.x;
-    data["velocity"] = st.v;
-    data["displacement"] = st.u;
-    s.nodal_force(force);
-    data["force"] = force;
-    s.damage(damage);
-    data["damage"] = damage;
+    for (const auto& name : fw.fields()) {
+        if (name == "velocity")
+            data[name] = st.v;
+        else if (name == "displacement")
+            data[name] = st.u;
+        else if (name == "force") {
+            s.nodal_force(force);
+            data[name] = force;
+        } else if (name == "damage") {
+            s.damage(damage);
+            data[name] = damage;
+        }
+    }
     fw.write(st.step, st.time, data);
 }
 
@@ -130,8 +138,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         f->remove(store::path::observables);
         f->remove(store::path::checkpoints);
     }
-    store::FrameWriter frames(*f, m.nodes.num(),
-                              {"position", "velocity", "displacement", "force", "damage"});
+    store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields);
     store::ObservableWriter obs(*f, s.num_walls());
     if (first == 0) {
         std::vector<double> mass(m.nodes.num());

@@ -24,8 +24,8 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     for (std::int64_t i = 0; i < n; ++i) {
         double fi[3] = {0, 0, 0};
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
-        if (law.lps[body])
-            continue; // the LPS kernel owns this row
+        if (law.lps[body] || law.rnp[body])
+            continue; // the LPS or RNP kernel owns this row
         if (!s.moving[static_cast<std::size_t>(i)]) {
             f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
             continue;
@@ -168,7 +168,75 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
     return {energy, broken};
 }
 
+template <bool Breakable>
+BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
+    const auto n = static_cast<std::int64_t>(s.n);
+    const double* x = s.x.data();
+    const double* x0 = s.x0.data();
+    const double* vol = s.vol.data();
+    double* f = s.f.data();
+    const offset_t* off = b.offsets.data();
+    const index_t* nb = b.neighbor.data();
+    const double* xi = b.xi.data();
+    const double* beta = b.beta.data();
+    const double* om = b.omega.data();
+    std::uint8_t* alive = b.alive.data();
+    double energy = 0;
+    std::int64_t broken = 0;
+#pragma omp parallel for schedule(static) reduction(+ : energy, broken) if (n > parallel_min)
+    for (std::int64_t i = 0; i < n; ++i) {
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+        if (!law.rnp[body])
+            continue;
+        if (!s.moving[static_cast<std::size_t>(i)]) {
+            f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
+            continue;
+        }
+        const double C = law.rnp_c[body], bt = law.rnp_beta[body], rb = law.rnp_rbar[body];
+        const double inv = 1.0 / law.rnp_inv[body];
+        double fi[3] = {0, 0, 0}, e_i = 0;
+        for (offset_t k = off[i]; k < off[i + 1]; ++k) {
+            const index_t j = nb[k];
+            if (Breakable && !alive[k]) {
+                e_i += C * inv * beta[k] * vol[j]; // a broken bond keeps C / invF
+                continue;
+            }
+            double X[3], eta[3], dot = 0;
+            for (int d = 0; d < 3; ++d) {
+                X[d] = x0[3 * j + d] - x0[3 * i + d];
+                eta[d] = (x[3 * j + d] - x0[3 * j + d]) - (x[3 * i + d] - x0[3 * i + d]);
+                dot += eta[d] * X[d];
+            }
+            const double r = xi[k];
+            const double S = dot / (r * r);
+            if constexpr (Breakable) {
+                if (S > rb / std::sqrt(r)) {
+                    alive[k] = 0;
+                    ++broken;
+                    e_i += C * inv * beta[k] * vol[j];
+                    continue;
+                }
+            }
+            const double ex = std::exp(-bt * r * S * S);
+            const double a = 4.0 * om[k] * S * C * bt * ex * inv * beta[k] * vol[j] / r;
+            fi[0] += a * X[0];
+            fi[1] += a * X[1];
+            fi[2] += a * X[2];
+            e_i += om[k] * C * (1 - ex) * inv * beta[k] * vol[j];
+        }
+        f[3 * i] = fi[0];
+        f[3 * i + 1] = fi[1];
+        f[3 * i + 2] = fi[2];
+        energy += e_i * vol[i];
+    }
+    return {energy, broken};
+}
+
 } // namespace
+
+BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law) {
+    return law.any_breakable ? rnp_kernel<true>(s, b, law) : rnp_kernel<false>(s, b, law);
+}
 
 void lps_weighted_volume(const State& s, const BondData& b, BodyLaw& law) {
     law.m.assign(s.n, 0.0);

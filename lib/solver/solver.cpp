@@ -4,6 +4,7 @@
 #include "core/errors.hpp"
 #include "model/lps.hpp"
 #include "model/pmb.hpp"
+#include "model/rnp.hpp"
 #include "solver/bond_forces.hpp"
 
 #include <algorithm>
@@ -107,6 +108,11 @@ Solver::Solver(const model::Model& m) : m_(m) {
     law_.c.resize(nb);
     law_.s0.resize(nb);
     law_.lps.assign(nb, 0);
+    law_.rnp.assign(nb, 0);
+    law_.rnp_c.assign(nb, 0.0);
+    law_.rnp_beta.assign(nb, 0.0);
+    law_.rnp_rbar.assign(nb, 0.0);
+    law_.rnp_inv.assign(nb, 1.0);
     law_.kappa.assign(nb, 0.0);
     law_.mu.assign(nb, 0.0);
     law_.dimension = m.dimension;
@@ -115,7 +121,17 @@ Solver::Solver(const model::Model& m) : m_(m) {
     law_.alpha = m.dimension == 3 ? 15.0 : 8.0;
     for (std::size_t b = 0; b < nb; ++b) {
         const auto& mat = m.materials[static_cast<std::size_t>(m.bodies.material[b])];
-        if (mat.law == model::Law::lps) {
+        if (mat.law == model::Law::rnp) {
+            auto k = model::rnp_constants(mat, m.bodies.horizon[b], m.dimension);
+            law_.rnp[b] = 1;
+            law_.rnp_c[b] = k.C;
+            law_.rnp_beta[b] = k.beta;
+            law_.rnp_rbar[b] = k.rbar;
+            law_.rnp_inv[b] = k.inv_factor;
+            law_.s0[b] = k.rbar; // breakable (S_c depends on the bond length)
+            law_.c[b] = 4 * k.C * k.beta / k.inv_factor; // small-strain stiffness, dt estimate
+            law_.any_rnp = law_.any_rnp || !m.bodies.fixed[b];
+        } else if (mat.law == model::Law::lps) {
             auto k = model::lps_constants(mat, m.bodies.horizon[b], m.dimension, m.planar);
             law_.lps[b] = 1;
             law_.kappa[b] = k.kappa;
@@ -167,7 +183,7 @@ Solver::Solver(const model::Model& m) : m_(m) {
                                (lambda[i] + lambda[static_cast<std::size_t>(b_.neighbor[kk])]);
             }
     }
-    if (law_.any_lps) {
+    if (law_.any_lps || law_.any_rnp) {
         b_.omega.resize(b_.neighbor.size());
         for (std::size_t i = 0; i < n; ++i) {
             const auto b = static_cast<std::size_t>(s_.body[i]);
@@ -178,7 +194,8 @@ Solver::Solver(const model::Model& m) : m_(m) {
                 b_.omega[kk] = model::influence(inf, b_.xi[kk] / m.bodies.horizon[b]);
             }
         }
-        lps_weighted_volume(s_, b_, law_);
+        if (law_.any_lps)
+            lps_weighted_volume(s_, b_, law_);
     }
     for (int d = 0; d < 3; ++d)
         g_[d] = m.loading.gravity[static_cast<std::size_t>(d)];
@@ -255,13 +272,18 @@ void Solver::compute_forces() {
     {
         ScopedTimer t(timers_, t_bonds_);
         elastic_energy_ = 0;
-        if (law_.any_pmb || !law_.any_lps) {
+        if (law_.any_pmb || (!law_.any_lps && !law_.any_rnp)) {
             auto res = pmb_bond_forces(s_, b_, law_);
             elastic_energy_ += res.elastic_energy;
             broken_total_ += res.newly_broken;
         }
         if (law_.any_lps) {
             auto res = lps_bond_forces(s_, b_, law_);
+            elastic_energy_ += res.elastic_energy;
+            broken_total_ += res.newly_broken;
+        }
+        if (law_.any_rnp) {
+            auto res = rnp_bond_forces(s_, b_, law_);
             elastic_energy_ += res.elastic_energy;
             broken_total_ += res.newly_broken;
         }

@@ -53,7 +53,9 @@ struct BondData {
 
 /// Per-body constants of the bond law (bonds never cross bodies).
 struct BodyLaw {
-    std::vector<std::uint8_t> lps; ///< 1 = LPS body, 0 = PMB body
+    std::vector<std::uint8_t> lps; ///< 1 = LPS body
+    std::vector<std::uint8_t> rnp; ///< 1 = RNP body (neither: PMB)
+    std::vector<double> rnp_c, rnp_beta, rnp_rbar, rnp_inv; ///< RNP constants per body
     std::vector<double> c;     ///< PMB micromodulus, N m-6
     std::vector<double> s0;    ///< critical stretch (inf = unbreakable)
     std::vector<double> kappa; ///< LPS bulk modulus of the d-dimensional problem, Pa
@@ -65,6 +67,7 @@ struct BodyLaw {
     bool any_breakable = false;
     bool any_pmb = false;
     bool any_lps = false;
+    bool any_rnp = false;
     std::vector<double> m;     ///< LPS weighted volume per node, m^(d+2)
     std::vector<double> theta; ///< LPS dilatation per node (work array)
 };

@@ -73,7 +73,9 @@ void require_range(const h5::File& f, const std::string& p, const std::vector<T>
                               fmt::format("entry {} = {} outside [{}, {})", i, v[i], lo, hi));
 }
 
-const char* law_name(model::Law l) { return l == model::Law::lps ? "lps" : "pmb"; }
+const char* law_name(model::Law l) {
+    return l == model::Law::lps ? "lps" : l == model::Law::rnp ? "rnp" : "pmb";
+}
 
 const char* influence_name(model::Influence f) {
     return f == model::Influence::linear     ? "linear"
@@ -254,6 +256,12 @@ void write_model(h5::File& f, const model::Model& m) {
     put_scalar(f, s + "/observe_every", S.observe_every, "1");
     put_scalar(f, s + "/contact_skin", S.contact_skin, "m");
     put_scalar(f, s + "/surface_correction", static_cast<std::int32_t>(S.surface_correction), "1");
+    {
+        std::string fl;
+        for (const auto& x : S.fields)
+            fl += (fl.empty() ? "" : ",") + x;
+        f.set_attr(s, "fields", fl);
+    }
     f.set_attr(s, "integrator", S.integrator == model::Integrator::velocity_verlet
                                     ? "velocity_verlet"
                                     : "symplectic_euler");
@@ -286,9 +294,11 @@ model::Model read_model(const h5::File& f) {
         auto& mat = m.materials[static_cast<std::size_t>(k)];
         mat.name = name;
         const auto law = f.attr_string(g, "law");
-        if (law != "pmb" && law != "lps")
-            throw SchemaError(f.name(), g, "law '" + law + "' unknown (pmb, lps)");
-        mat.law = law == "lps" ? model::Law::lps : model::Law::pmb;
+        if (law != "pmb" && law != "lps" && law != "rnp")
+            throw SchemaError(f.name(), g, "law '" + law + "' unknown (pmb, lps, rnp)");
+        mat.law = law == "lps"   ? model::Law::lps
+                  : law == "rnp" ? model::Law::rnp
+                                 : model::Law::pmb;
         const auto inf = f.has_attr(g, "influence") ? f.attr_string(g, "influence") : "constant";
         if (inf != "constant" && inf != "linear" && inf != "gaussian")
             throw SchemaError(f.name(), g, "influence '" + inf + "' unknown");
@@ -468,6 +478,20 @@ model::Model read_model(const h5::File& f) {
     S.contact_skin = get_scalar<double>(f, s + "/contact_skin");
     S.surface_correction = !f.exists(s + "/surface_correction") ||
                            get_scalar<std::int32_t>(f, s + "/surface_correction") != 0;
+    if (f.has_attr(s, "fields")) {
+        S.fields.clear();
+        std::string fl = f.attr_string(s, "fields");
+        for (std::size_t a = 0; a < fl.size();) {
+            auto b = fl.find(',', a);
+            if (b == std::string::npos)
+                b = fl.size();
+            const auto x = fl.substr(a, b - a);
+            if (x != "velocity" && x != "displacement" && x != "force" && x != "damage")
+                throw SchemaError(f.name(), s, "fields: '" + x + "' is not a frame field");
+            S.fields.push_back(x);
+            a = b + 1;
+        }
+    }
     const std::string integ = f.attr_string(s, "integrator");
     if (integ == "velocity_verlet")
         S.integrator = model::Integrator::velocity_verlet;

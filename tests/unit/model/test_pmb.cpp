@@ -68,6 +68,7 @@ TEST(Pmb, TwoNodeBondForce) {
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};
+    law.rnp = {0};
     law.krep = {0};
     law.rrep = {0};
     law.c = {2.5e20};
@@ -105,6 +106,7 @@ TEST(Pmb, BreakingIsSymmetricAndTensionOnly) {
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};
+    law.rnp = {0};
     law.krep = {0};
     law.rrep = {0};
     law.c = {1e20};

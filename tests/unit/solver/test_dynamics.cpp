@@ -111,6 +111,45 @@ TEST(Dynamics, HeadOnCollisionConservesMomentumAndEnergy) {
     EXPECT_LT(max_drift, 2e-3); // total energy (with contact springs) throughout the collision
 }
 
+/// Every law conserves momentum to round-off and energy to the time-integration error in an
+/// elastic collision (no damping, no breaking at this speed).
+TEST(Dynamics, EveryLawConservesInACollision) {
+    for (const std::string law : {R"("law": "pmb")", R"("law": "lps", "poisson_ratio": 0.3)",
+                                  R"("law": "rnp")"}) {
+        const std::string sc = R"({"dimension": 2,
+          "materials": {"m1": {)" + law + R"(, "density": 1200, "youngs_modulus": 3.24e7,
+                               "fracture_energy": 50}},
+          "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+          "particles": [{"radius": 1e-3, "center": [-1.1e-3, 0], "material": "m1",
+                         "velocity": [0.5, 0]},
+                        {"radius": 1e-3, "center": [1.1e-3, 0], "material": "m1",
+                         "velocity": [-0.5, 0], "orientation": 1.0}],
+          "solver": {"final_time": 1}, "title": "t"})";
+        auto m = pipeline::build_scene(sc, "t", quiet);
+        solver::Solver s(m);
+        s.set_dt(0.5 * s.stable_dt().limit);
+        s.initialize();
+        const auto o0 = s.observe();
+        const double p1 = 0.5 * 1200 * M_PI * 1e-6;
+        double max_dp = 0, drift = 0;
+        std::int64_t touched = 0;
+        for (int k = 0; k < 3000; ++k) {
+            s.advance();
+            const auto o = s.observe();
+            max_dp = std::max(max_dp, std::abs(o.momentum[0]));
+            touched = std::max(touched, o.contact_count);
+            drift = std::max(drift, std::abs((o.kinetic_energy + o.elastic_energy +
+                                              o.contact_energy) /
+                                                 o0.kinetic_energy -
+                                             1));
+        }
+        EXPECT_GT(touched, 0) << law;
+        EXPECT_LT(max_dp / p1, 1e-12) << law;
+        EXPECT_LT(drift, 2e-3) << law;
+        EXPECT_EQ(s.observe().broken_bonds, 0) << law;
+    }
+}
+
 TEST(Dynamics, StableDtShrinksWithStiffness) {
     auto soft = pipeline::build_scene(
         scene(R"({"radius": 1e-3, "center": [0, 0], "material": "m1"})"), "t", quiet);
