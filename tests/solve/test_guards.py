@@ -96,3 +96,26 @@ def test_restart_without_checkpoint_is_an_input_error(tmp_path):
     r = run("pd-solve", f, "--restart")
     assert r.returncode == 2
     assert "/checkpoints" in r.stderr
+
+
+def test_same_result_for_any_thread_count(tmp_path):
+    """Rows are summed in a fixed order and contact records are sorted: the positions after 30
+    steps of the 500-grain pack (53 000 nodes, threaded kernels) are identical bit for bit on
+    1 and 2 threads."""
+    src = os.path.join(SRC, "examples", "pack500", "scene.json")
+    f1 = tmp_path / "t1.h5"
+    subprocess.run([f"{BIN}/pd-pack", src, "-o", str(f1), "-q"], check=True)
+    f2 = tmp_path / "t2.h5"
+    shutil.copy(f1, f2)
+    for f, n in ((f1, "1"), (f2, "2")):
+        env = dict(os.environ, OMP_NUM_THREADS=n)
+        r = subprocess.run([f"{BIN}/pd-solve", str(f), "-q", "--steps", "30"], env=env,
+                           capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+    with h5py.File(f1, "r") as a, h5py.File(f2, "r") as b:
+        assert a["provenance"][sorted(a["provenance"])[-1]].attrs["threads"] == 1
+        assert b["provenance"][sorted(b["provenance"])[-1]].attrs["threads"] == 2
+        ca = a["checkpoints"][a["checkpoints"].attrs["latest"]]
+        cb = b["checkpoints"][b["checkpoints"].attrs["latest"]]
+        for k in ("displacement", "velocity", "force_density"):
+            assert np.array_equal(ca[k][...], cb[k][...]), k

@@ -78,6 +78,25 @@ TEST(Dynamics, FreeFlightFollowsDiscreteTrajectory) {
     }
 }
 
+TEST(Dynamics, SymplecticEulerFreeFlight) {
+    // Spec 11.13: v += dt g, then x += dt v gives y_n = y0 + v0 t_n - 5 t_n^2 - 5 dt t_n.
+    auto m = pipeline::build_scene(
+        scene(R"({"radius": 1e-3, "center": [0, 0], "material": "m1", "velocity": [0, 0.2]})",
+              R"("loading": {"gravity": [0, -10]},)"),
+        "t", quiet);
+    m.solver.integrator = model::Integrator::symplectic_euler;
+    solver::Solver s(m);
+    const double dt = 1e-7;
+    s.set_dt(dt);
+    s.initialize();
+    for (int k = 0; k < 400; ++k)
+        s.advance();
+    const double t = s.state().time;
+    const auto& st = s.state();
+    for (std::size_t i = 0; i < st.n; i += 29)
+        EXPECT_NEAR(st.x[3 * i + 1], st.x0[3 * i + 1] + 0.2 * t - 5 * t * t - 5 * dt * t, 1e-15);
+}
+
 TEST(Dynamics, HeadOnCollisionConservesMomentumAndEnergy) {
     auto m = pipeline::build_scene(
         scene(R"({"radius": 1e-3, "center": [-1.1e-3, 0], "material": "m1", "velocity": [0.5, 0]},
