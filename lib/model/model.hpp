@@ -172,9 +172,9 @@ struct SolverSettings {
     std::int64_t observe_every = 1; ///< steps between observable rows
     Integrator integrator = Integrator::velocity_verlet;
     double contact_skin = 0;        ///< m; 0 = automatic (the largest contact radius)
-    bool surface_correction = true; ///< PMB quadrature/surface correction (false: PeriDEM's)
+    bool surface_correction = false; ///< PMB isotropic surface correction (opt-in, see solver)
     /// Nodal fields written in frames besides position (only these are computed at frames).
-    std::vector<std::string> fields{"velocity", "displacement", "force", "damage"};
+    std::vector<std::string> fields{"velocity", "displacement", "force", "damage", "damage_z"};
 };
 
 /// Everything pd-pack writes and pd-solve reads.

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
-// pd-post as a library call: validate a pd-file (--check), or export its frames to VTU/PVD and
-// its observables to CSV. Tests call post() in-process; tools/pd-post/main.cpp only parses.
+// pd-post as a library call: validate a pd-file (--check), or export its frames to VTU/PVD and an
+// XDMF sidecar, and its observables, grains, wall reactions and (on request) crack to CSV. Tests
+// call post() in-process; tools/pd-post/main.cpp only parses.
 #pragma once
 
 #include "core/tool.hpp"
+#include "post/crack.hpp"
 
 #include <string>
+#include <vector>
 
 namespace pd::pipeline {
 
@@ -15,6 +18,15 @@ struct PostOptions {
     bool check = false;  ///< only validate against the pd-file schema, write nothing
     bool vtu = true;     ///< write <stem>_<frame>.vtu + <stem>.pvd
     bool csv = true;     ///< write observables.csv
+    bool xdmf = true;    ///< write <stem>.xmf (XDMF 2 pointing into FILE) in the output directory
+    bool grains = true;  ///< write grains.csv (per body and frame)
+    bool walls = true;   ///< write walls.csv (when the file has rigid walls)
+    double wall_length = 0; ///< m (2D) or m2 (3D): walls.csv adds stress = force / this; 0 = none
+    /// crack.csv is written when either is given: a point of the crack path and the direction
+    /// of growth, 2 (z = 0) or 3 values each (default origin 0, direction +x).
+    std::vector<double> crack_origin, crack_direction;
+    post::CrackOptions crack_opt; ///< threshold, band, window (origin/direction set from above)
+    double progress_seconds = 10; ///< wall-clock seconds between progress lines
     pd::CommonOptions common;
 };
 

@@ -1019,17 +1019,18 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         throw ConfigError("solver.output_interval", "must be >= 0");
     S.observe_every = static_cast<std::int64_t>(positive(sv, "solver", "observe_every", 1));
     S.checkpoint_interval = number(sv, "solver", "checkpoint_interval", 0);
-    S.surface_correction = boolean(sv, "solver", "surface_correction", true);
+    S.surface_correction = boolean(sv, "solver", "surface_correction", false);
     if (sv.contains("fields")) {
         if (!sv["fields"].is_array())
             throw ConfigError("solver.fields", "expected a list of frame fields");
         S.fields.clear();
         for (const auto& x : sv["fields"]) {
             const std::string n = x.is_string() ? x.get<std::string>() : "";
-            if (n != "velocity" && n != "displacement" && n != "force" && n != "damage")
+            if (n != "velocity" && n != "displacement" && n != "force" && n != "damage" &&
+                n != "damage_z")
                 throw ConfigError("solver.fields", "'" + x.dump() + "' is not one of velocity, "
-                                                   "displacement, force, damage (position is "
-                                                   "always written)");
+                                                   "displacement, force, damage, damage_z "
+                                                   "(position is always written)");
             S.fields.push_back(n);
         }
     }

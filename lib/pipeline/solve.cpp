@@ -23,6 +23,7 @@ namespace {
 
 void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<double>& damage,
                  std::vector<double>& force) {
+    thread_local std::vector<double> damage_z;
     // Only the requested fields are computed.
     const auto& st = s.state();
     std::map<std::string, std::span<const double>> data;
@@ -38,6 +39,9 @@ void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<do
         } else if (name == "damage") {
             s.damage(damage);
             data[name] = damage;
+        } else if (name == "damage_z") {
+            s.damage_z(damage_z);
+            data[name] = damage_z;
         }
     }
     fw.write(st.step, st.time, data);

@@ -88,7 +88,7 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
 } // namespace
 
 VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const std::string& out_dir,
-                           const std::string& stem) {
+                           const std::string& stem, const Progress& progress) {
     store::FrameReader frames(f);
     const std::string particles = store::path::particles;
     const auto n = frames.num_nodes();
@@ -157,6 +157,8 @@ VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const s
         if (writer->Write() != 1)
             throw InputError(fmt::format("{}: cannot write (VTK XML writer failed)", path));
         listed.emplace_back(frames.time(k), name);
+        if (progress)
+            progress("vtu", k + 1, frames.num_frames());
     }
     // Frames beyond the last one, left by an earlier export of a longer run, would join the
     // series in ParaView's file grouping: remove that contiguous tail of our own numbering.

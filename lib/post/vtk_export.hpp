@@ -6,6 +6,7 @@
 #pragma once
 
 #include "model/model.hpp"
+#include "post/progress.hpp"
 
 #include <cstddef>
 #include <string>
@@ -28,6 +29,6 @@ struct VtuSeries {
 /// SchemaError if the frames lack /particles/nodes/position or disagree with `nodes`, InputError
 /// if a file cannot be written.
 VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const std::string& out_dir,
-                           const std::string& stem);
+                           const std::string& stem, const Progress& progress = {});
 
 } // namespace pd::post

@@ -58,6 +58,9 @@ class Solver {
     BondData& bonds() { return b_; }
     /// LPS dilatation theta per node (0 for PMB nodes) at the last force evaluation.
     const std::vector<double>& dilatation() const { return law_.theta; }
+    /// Damage_Z per node (spec 3): max over all bonds, broken or not, of |s| / s0 (RNP:
+    /// |S| / S_c(r)); >= 1 where a bond has reached its critical stretch. 0 if unbreakable.
+    void damage_z(std::vector<double>& z) const;
     /// phi per node.
     void damage(std::vector<double>& phi) const;
     /// Nodal force f V (N) per node, 3 per node.

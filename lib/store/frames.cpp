@@ -21,7 +21,8 @@ const std::vector<FieldInfo>& frame_fields() {
                                           {"velocity", 3, "m s-1"},
                                           {"displacement", 3, "m"},
                                           {"force", 3, "N"},
-                                          {"damage", 1, "1"}};
+                                          {"damage", 1, "1"},
+                                          {"damage_z", 1, "1"}};
     return f;
 }
 
@@ -41,7 +42,7 @@ static const FieldInfo& field_info(const std::string& name) {
         if (fi.name == name)
             return fi;
     throw InputError("unknown frame field '" + name + "' (known: position, velocity, "
-                     "displacement, force, damage)");
+                     "displacement, force, damage, damage_z)");
 }
 
 void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& species,

@@ -476,7 +476,7 @@ model::Model read_model(const h5::File& f) {
                                 : 0.0;
     S.observe_every = get_scalar<std::int64_t>(f, s + "/observe_every");
     S.contact_skin = get_scalar<double>(f, s + "/contact_skin");
-    S.surface_correction = !f.exists(s + "/surface_correction") ||
+    S.surface_correction = f.exists(s + "/surface_correction") &&
                            get_scalar<std::int32_t>(f, s + "/surface_correction") != 0;
     if (f.has_attr(s, "fields")) {
         S.fields.clear();
@@ -486,7 +486,8 @@ model::Model read_model(const h5::File& f) {
             if (b == std::string::npos)
                 b = fl.size();
             const auto x = fl.substr(a, b - a);
-            if (x != "velocity" && x != "displacement" && x != "force" && x != "damage")
+            if (x != "velocity" && x != "displacement" && x != "force" && x != "damage" &&
+                x != "damage_z")
                 throw SchemaError(f.name(), s, "fields: '" + x + "' is not a frame field");
             S.fields.push_back(x);
             a = b + 1;

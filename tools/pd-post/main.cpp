@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// pd-post: export a pd-file's frames to VTU/PVD and its observables to CSV, or --check it
-// against the pd-file schema. Usage: pd-post FILE [-o DIR] [--check] [--no-vtu] [--no-csv]
-// Exit codes: 0 ok, 2 bad or invalid file, 4 internal error (see README).
+// pd-post: export a pd-file to VTU/PVD, an XDMF sidecar and CSV tables (observables, grains,
+// walls, crack), or --check it against the schema. Usage: pd-post FILE [-o DIR] [options]
+// Exit codes: 0 ok, 2 bad or invalid file or option, 4 internal error (see README).
 #include "core/tool.hpp"
 #include "pipeline/post.hpp"
 
@@ -9,16 +9,30 @@
 
 int main(int argc, char** argv) {
     pd::pipeline::PostOptions opt;
-    CLI::App app{"pd-post: export a pd file to ParaView (.vtu/.pvd) and CSV, or check its schema",
+    CLI::App app{"pd-post: export a pd file to ParaView (.vtu/.pvd/.xmf) and CSV, or check it",
                  "pd-post"};
     app.add_option("file", opt.file, "pd HDF5 file (its /provenance is appended)")->required();
     app.add_option("-o,--out", opt.out_dir, "output directory (default: 'post' beside FILE)");
-    app.add_flag("--check", opt.check,
-                 "only validate FILE against the pd-file schema; write nothing");
-    app.add_flag_callback(
-        "--no-vtu", [&] { opt.vtu = false; }, "do not write .vtu/.pvd");
-    app.add_flag_callback(
-        "--no-csv", [&] { opt.csv = false; }, "do not write observables.csv");
+    app.add_flag("--check", opt.check, "only validate FILE against the schema; write nothing");
+    for (auto [flag, target] : {std::pair{"--no-vtu", &opt.vtu},
+                                {"--no-csv", &opt.csv},
+                                {"--no-xdmf", &opt.xdmf},
+                                {"--no-grains", &opt.grains},
+                                {"--no-walls", &opt.walls}})
+        app.add_flag_callback(
+            flag, [t = target] { *t = false; },
+            std::string("do not write ") + (flag + 5) + " output");
+    app.add_option("--wall-length", opt.wall_length, "walls.csv stress = force / L (m; 3D: m2)");
+    app.add_option("--crack-origin", opt.crack_origin, "crack path point x,y[,z] (m); crack.csv")
+        ->delimiter(',')
+        ->expected(2, 3);
+    app.add_option("--crack-direction", opt.crack_direction, "crack growth direction dx,dy[,dz]")
+        ->delimiter(',')
+        ->expected(2, 3);
+    app.add_option("--crack-threshold", opt.crack_opt.threshold, "phi of a cracked node (0.3)");
+    app.add_option("--crack-band", opt.crack_opt.band, "max distance from the path (m)");
+    app.add_option("--crack-window", opt.crack_opt.half_window, "speed fit half-width (frames)");
+    app.add_option("--progress-seconds", opt.progress_seconds, "seconds between progress lines");
     pd::add_common_flags(app, opt.common);
     CLI11_PARSE(app, argc, argv);
     return pd::run_tool("pd-post", argc, argv, opt.common,

@@ -90,12 +90,14 @@ double plate_strain_error(double h) {
     return slope / (sigma / E) - 1;
 }
 
-TEST(Accuracy, UniaxialStretchConverges) {
+TEST(Accuracy, UniaxialStretchOfAPlate) {
+    // Interior strain of a 2D plate relaxed under uniaxial stress. At fixed m = 3 the error is
+    // the quadrature error of the families (a few per cent, not monotone in h on a grid: the
+    // scheme is not asymptotically compatible); the convergence in h is shown by the 3D bar.
     const double e1 = plate_strain_error(2e-4), e2 = plate_strain_error(1e-4);
-    std::printf("[ plate ] relative strain error h=0.2mm %.4f, h=0.1mm %.4f, rate %.2f\n", e1,
-                e2, std::log(std::abs(e1) / std::abs(e2)) / std::log(2.0));
-    EXPECT_LT(std::abs(e2), 0.05);
-    EXPECT_LT(std::abs(e2), std::abs(e1)); // the error falls as h shrinks at fixed m
+    std::printf("[ plate ] relative strain error h=0.2mm %.4f, h=0.1mm %.4f\n", e1, e2);
+    EXPECT_LT(std::abs(e1), 0.03);
+    EXPECT_LT(std::abs(e2), 0.03);
 }
 
 TEST(Accuracy, WaveSpeedInABar) {
@@ -301,6 +303,49 @@ TEST(Accuracy, TwoSpheresCollide3D) {
     EXPECT_TRUE(touched);
     EXPECT_LT(maxdp / p1, 1e-12);
     EXPECT_LT(drift, 5e-3);
+}
+
+} // namespace
+
+namespace {
+
+/// Force transmitted across the mid-section x = 0 of a 3D PMB bar (lx x ly x lz) under the
+/// affine uniaxial-stress field u = eps (x, -nu y, -nu z), nu = 1/4: the net bond force on the
+/// half x < 0 is minus what crosses the section, to compare with sigma A = E eps A.
+double bar3d_section_error(double h, bool correction = false) {
+    const double lx = 10e-3, ly = 4e-3, E = 1e9, eps = 1e-4, nu = 0.25;
+    const std::string sc = fmt::format(R"({{"dimension": 3,
+      "materials": {{"m": {{"density": 1000, "youngs_modulus": {}}}}},
+      "discretization": {{"mesh_size": {}, "horizon_factor": 3}},
+      "shapes": {{"bar": {{"type": "box", "size": [{}, {}, {}], "mesh": "grid"}}}},
+      "particles": [{{"shape": "bar", "center": [0, 0, 0], "material": "m"}}],
+      "solver": {{"final_time": 1, "surface_correction": {}}}}})",
+                                       E, h, lx, ly, ly, correction);
+    auto m = pipeline::build_scene(sc, "bar3d", quiet);
+    solver::Solver s(m);
+    auto& st = s.state();
+    for (std::size_t i = 0; i < st.n; ++i) {
+        st.x[3 * i] = st.x0[3 * i] * (1 + eps);
+        st.x[3 * i + 1] = st.x0[3 * i + 1] * (1 - nu * eps);
+        st.x[3 * i + 2] = st.x0[3 * i + 2] * (1 - nu * eps);
+    }
+    s.initialize();
+    double F = 0;
+    for (std::size_t i = 0; i < st.n; ++i)
+        if (st.x0[3 * i] < 0)
+            F += st.f[3 * i] * st.vol[i]; // the right half pulls it towards +x
+    return F / (E * eps * ly * ly) - 1;
+}
+
+TEST(Accuracy, BarSectionForce3D) {
+    const double e1 = bar3d_section_error(5e-4), e2 = bar3d_section_error(2.5e-4);
+    std::printf("[ bar3d ] with the optional surface correction: %.4f, %.4f\n",
+                bar3d_section_error(5e-4, true), bar3d_section_error(2.5e-4, true));
+    const double rate = std::log(std::abs(e1) / std::abs(e2)) / std::log(2.0);
+    std::printf("[ bar3d ] section force error h=0.5mm %.4f, h=0.25mm %.4f, rate %.2f\n", e1, e2,
+                rate);
+    EXPECT_LT(std::abs(e2), 0.05);
+    EXPECT_GT(rate, 1.0); // falls at least linearly with h at fixed m
 }
 
 } // namespace

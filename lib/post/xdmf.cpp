@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: MIT
+// XDMF 2 sidecar writer (see xdmf.hpp). Plain XML; the heavy data stays in the HDF5 file.
+#include "post/xdmf.hpp"
+
+#include "core/errors.hpp"
+#include "h5/file.hpp"
+#include "store/frames.hpp"
+#include "store/schema.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+namespace pd::post {
+
+namespace {
+
+std::string xml_escape(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        switch (c) {
+        case '&':
+            out += "&amp;";
+            break;
+        case '<':
+            out += "&lt;";
+            break;
+        case '>':
+            out += "&gt;";
+            break;
+        case '"':
+            out += "&quot;";
+            break;
+        default:
+            out += c;
+        }
+    }
+    return out;
+}
+
+/// A HyperSlab DataItem selecting frame k of a (T, N[, 3]) dataset.
+std::string hyperslab(std::size_t k, std::size_t frames, std::size_t n, int components,
+                      const std::string& h5_ref, const std::string& dataset) {
+    const bool vec = components > 1;
+    const std::string dims = vec ? fmt::format("1 {} {}", n, components) : fmt::format("1 {}", n);
+    const std::string all =
+        vec ? fmt::format("{} {} {}", frames, n, components) : fmt::format("{} {}", frames, n);
+    const std::string select = vec ? fmt::format("{} 0 0 1 1 1 1 {} {}", k, n, components)
+                                   : fmt::format("{} 0 1 1 1 {}", k, n);
+    return fmt::format(
+        "        <DataItem ItemType=\"HyperSlab\" Dimensions=\"{}\" Type=\"HyperSlab\">\n"
+        "          <DataItem Dimensions=\"3 {}\" Format=\"XML\">{}</DataItem>\n"
+        "          <DataItem Dimensions=\"{}\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"HDF\">{}:{}</DataItem>\n"
+        "        </DataItem>\n",
+        dims, vec ? 3 : 2, select, all, xml_escape(h5_ref), dataset);
+}
+
+} // namespace
+
+std::size_t write_xdmf(const h5::File& f, const std::string& xmf_path, const std::string& h5_ref) {
+    store::FrameReader frames(f);
+    const std::string particles = store::path::particles;
+    const auto fields = frames.fields();
+    if (std::find(fields.begin(), fields.end(), "position") == fields.end())
+        throw SchemaError(f.name(), particles + "/position", "missing (no positions for XDMF)");
+    const std::size_t n = frames.num_nodes(), t = frames.num_frames();
+    const std::string nodes = store::path::nodes;
+    const bool has_body = f.exists(nodes + "/body"), has_volume = f.exists(nodes + "/volume");
+
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(xmf_path.c_str(), "w"),
+                                                        &std::fclose);
+    if (!out)
+        throw InputError(fmt::format("{}: cannot open for writing", xmf_path));
+    // Written frame by frame: the text does not accumulate in memory.
+    const auto put = [&](const std::string& text) {
+        if (std::fputs(text.c_str(), out.get()) < 0)
+            throw InputError(fmt::format("{}: write failed (disk full?)", xmf_path));
+    };
+    std::string s =
+        "<?xml version=\"1.0\" ?>\n"
+        "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+        "<Xdmf Version=\"2.0\">\n  <Domain>\n"
+        "    <Grid Name=\"nodes\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    put(s);
+    for (std::size_t k = 0; k < t; ++k) {
+        s = fmt::format("    <Grid Name=\"frame_{}\" GridType=\"Uniform\">\n"
+                        "      <Time Value=\"{:.17g}\"/>\n"
+                        "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
+                        "NodesPerElement=\"1\"/>\n"
+                        "      <Geometry GeometryType=\"XYZ\">\n",
+                        k, frames.time(k), n);
+        s += hyperslab(k, t, n, 3, h5_ref, particles + "/position/value");
+        s += "      </Geometry>\n";
+        for (const auto& name : fields) {
+            const int c = frames.components(name);
+            s += fmt::format("      <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n",
+                             name, c == 1 ? "Scalar" : "Vector");
+            s += hyperslab(k, t, n, c, h5_ref, particles + "/" + name + "/value");
+            s += "      </Attribute>\n";
+        }
+        if (has_body)
+            s += fmt::format("      <Attribute Name=\"body\" AttributeType=\"Scalar\" "
+                             "Center=\"Node\">\n        <DataItem Dimensions=\"{}\" "
+                             "NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">{}:{}/body"
+                             "</DataItem>\n      </Attribute>\n",
+                             n, xml_escape(h5_ref), nodes);
+        if (has_volume)
+            s += fmt::format("      <Attribute Name=\"volume\" AttributeType=\"Scalar\" "
+                             "Center=\"Node\">\n        <DataItem Dimensions=\"{}\" "
+                             "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:{}/volume"
+                             "</DataItem>\n      </Attribute>\n",
+                             n, xml_escape(h5_ref), nodes);
+        s += "    </Grid>\n";
+        put(s);
+    }
+    put("    </Grid>\n  </Domain>\n</Xdmf>\n");
+    if (std::fflush(out.get()) != 0)
+        throw InputError(fmt::format("{}: write failed (disk full?)", xmf_path));
+    return t;
+}
+
+} // namespace pd::post

@@ -1,0 +1,66 @@
+# SPDX-License-Identifier: MIT
+"""walls.csv: the reaction columns equal /observables/wall_force and wall_moment exactly, the
+displacement is /walls/velocity * time, stress = force / --wall-length; and a disc resting on a
+floor (made with pd-pack and pd-solve) pushes on it with its weight."""
+
+import h5py
+import numpy as np
+import pytest
+
+from post_helpers import DENSITY, GRAVITY, read_csv, resting_disc, run
+
+
+@pytest.fixture(scope="module")
+def disc(tmp_path_factory, bin_dir):
+    return resting_disc(tmp_path_factory, bin_dir)
+
+
+def check_against_file(h5, csv, length=None):
+    d = read_csv(csv)
+    with h5py.File(h5, "r") as f:
+        force = f["observables/wall_force/value"][()]
+        moment = f["observables/wall_moment/value"][()]
+        time = f["observables/wall_force/time"][()]
+        vel = f["walls/velocity"][()]
+        normal = f["walls/normal"][()]
+    np.testing.assert_array_equal(d["time"], time)
+    for k in range(force.shape[1]):
+        for c, a in enumerate("xyz"):
+            np.testing.assert_array_equal(d["wall_%d_force_%s" % (k, a)], force[:, k, c])
+            np.testing.assert_array_equal(d["wall_%d_moment_%s" % (k, a)], moment[:, k, c])
+            np.testing.assert_allclose(d["wall_%d_disp_%s" % (k, a)], vel[k, c] * time)
+            if length:
+                np.testing.assert_allclose(d["wall_%d_stress_%s" % (k, a)], force[:, k, c] / length)
+        np.testing.assert_allclose(d["wall_%d_normal_force" % k], force[:, k] @ normal[k],
+                                   rtol=1e-12, atol=1e-300)
+    return d
+
+
+def test_synthetic_reaction_equals_observable(synthetic_file, pd_post, tmp_path):
+    with h5py.File(synthetic_file, "a") as f:
+        f["walls/velocity"][0] = [0.0, -0.5, 0.0]  # a moving wall: displacement = v t
+    r = run(pd_post, synthetic_file, "-o", tmp_path / "out", "--wall-length", "0.01")
+    assert r.returncode == 0, r.stderr
+    check_against_file(synthetic_file, tmp_path / "out" / "walls.csv", 0.01)
+
+
+def test_resting_disc_reaction_is_its_weight(disc):
+    h5, post = disc
+    d = check_against_file(h5, post / "walls.csv", 2e-3)
+    with h5py.File(h5, "r") as f:
+        weight = f["nodes/volume"][()].sum() * DENSITY * GRAVITY  # N per m of thickness
+    fn = d["wall_0_normal_force"]
+    late = fn[int(0.7 * len(fn)):]  # settled: the last 30 % of the run
+    # The floor receives the weight, pointing into it (against its normal).
+    # Step to step the contact nodes chatter; averaged over windows of 1/10 of the run it is
+    # steady.
+    for w in np.array_split(late, 3):
+        np.testing.assert_allclose(-w.mean(), weight, rtol=0.01)
+
+
+def test_no_walls_no_csv(synthetic_file, pd_post, tmp_path):
+    with h5py.File(synthetic_file, "a") as f:
+        del f["walls"], f["observables/wall_force"], f["observables/wall_moment"]
+    r = run(pd_post, synthetic_file, "-o", tmp_path / "out", "--no-vtu")
+    assert r.returncode == 0, r.stderr
+    assert not (tmp_path / "out" / "walls.csv").exists()
