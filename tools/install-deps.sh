@@ -18,14 +18,36 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
-echo "pdgrain: installing missing Debian packages: ${missing[*]}"
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then
-  command -v sudo >/dev/null || { echo "pdgrain: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
   sudo="sudo"
 fi
 export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-echo "pdgrain: packages installed"
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "pdgrain: installing missing Debian packages: ${missing[*]}"
+  if [ -n "$sudo" ] && ! command -v sudo >/dev/null; then
+    echo "pdgrain: need root (or sudo) to install: ${missing[*]}" >&2
+    exit 1
+  fi
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "pdgrain: packages installed"
+fi
+
+# ParaView's Python modules (python3-paraview) conflict with python3-vtk9, which libvtk9-dev
+# needs: they cannot be installed together on Debian 12. The tests that read our XDMF/PVD with
+# ParaView's pvbatch only need the modules on a path, so the package is unpacked (not installed)
+# into .deps/ of this checkout, once.
+root="$(cd "$(dirname "$0")/.." && pwd)"
+pv="$root/.deps/paraview-python"
+if [ ! -d "$pv/usr/lib/python3/dist-packages/paraview" ]; then
+  tmp="$(mktemp -d)"
+  if (cd "$tmp" && apt-get download -qq python3-paraview >/dev/null 2>&1); then
+    mkdir -p "$pv"
+    dpkg-deb -x "$tmp"/python3-paraview_*.deb "$pv"
+    echo "pdgrain: unpacked python3-paraview into .deps/ (for the ParaView reader tests)"
+  else
+    echo "pdgrain: could not fetch python3-paraview; the ParaView reader tests will skip" >&2
+  fi
+  rm -rf "$tmp"
+fi

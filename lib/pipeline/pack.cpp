@@ -3,25 +3,67 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "pipeline/peridem_import.hpp"
 #include "pipeline/scene.hpp"
 #include "store/model_io.hpp"
 #include "store/provenance.hpp"
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace pd::pipeline {
 
+namespace {
+
+/// workflows/preview/preview.py: PD_SOURCE_DIR, else up from the executable (build*/bin/pd-pack).
+std::string preview_script() {
+    namespace fs = std::filesystem;
+    const std::string rel = "workflows/preview/preview.py";
+    if (const char* s = std::getenv("PD_SOURCE_DIR"); s && fs::is_regular_file(fs::path(s) / rel))
+        return (fs::path(s) / rel).string();
+    std::error_code ec;
+    auto exe = fs::read_symlink("/proc/self/exe", ec);
+    for (auto p = exe.parent_path(); !ec && !p.empty() && p != p.root_path(); p = p.parent_path())
+        if (fs::is_regular_file(p / rel))
+            return (p / rel).string();
+    throw InputError("--preview: cannot find " + rel + " (set PD_SOURCE_DIR to the source tree)");
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s)
+        q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+} // namespace
+
 void pack(const PackOptions& opt, Context& ctx) {
-    std::ifstream in(opt.scene);
-    if (!in)
-        throw InputError(fmt::format("{}: cannot read the scene file", opt.scene));
-    std::stringstream ss;
-    ss << in.rdbuf();
-    model::Model m = build_scene(ss.str(), opt.scene, ctx.log);
+    std::string text, source;
+    if (!opt.from_peridem.empty()) {
+        text = peridem_to_scene(opt.from_peridem, ctx.log);
+        source = opt.from_peridem;
+    } else {
+        std::ifstream in(opt.scene);
+        if (!in)
+            throw InputError(fmt::format("{}: cannot read the scene file", opt.scene));
+        std::stringstream ss;
+        ss << in.rdbuf();
+        text = ss.str();
+        source = opt.scene;
+    }
+    if (!opt.write_scene.empty()) {
+        std::ofstream out(opt.write_scene);
+        if (!(out << text))
+            throw InputError(fmt::format("{}: cannot write the scene", opt.write_scene));
+        ctx.log.info("wrote the scene {}", opt.write_scene);
+    }
+    model::Model m = build_scene(text, source, ctx.log);
 
     const std::string tmp = fmt::format("{}.tmp.{}", opt.output, ::getpid());
     try {
@@ -39,6 +81,15 @@ void pack(const PackOptions& opt, Context& ctx) {
     ctx.log.info("wrote {}: {} bodies, {} walls, {} nodes, {} bonds, {} materials", opt.output,
                  m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(),
                  m.materials.size());
+    if (!opt.preview.empty()) {
+        const auto cmd = fmt::format("/usr/bin/python3 {} {} -o {}", quote(preview_script()),
+                                     quote(opt.output), quote(opt.preview));
+        const int rc = std::system(cmd.c_str());
+        if (rc != 0)
+            throw InputError(fmt::format("--preview: '{}' failed (status {})", cmd,
+                                         WIFEXITED(rc) ? WEXITSTATUS(rc) : rc));
+        ctx.log.info("wrote the preview {}", opt.preview);
+    }
 }
 
 } // namespace pd::pipeline

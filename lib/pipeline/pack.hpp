@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// pd-pack: scene (JSON) -> pd-file. The file is written under a temporary name and renamed when
-// complete, so a failed run never leaves a half-written file (nor touches an existing one).
+// pd-pack: scene (JSON) or PeriDEM deck (YAML) -> pd-file. The file is written under a temporary
+// name and renamed when complete, so a failed run never leaves a half-written file (nor touches an
+// existing one).
 #pragma once
 
 #include "core/tool.hpp"
@@ -10,8 +11,11 @@
 namespace pd::pipeline {
 
 struct PackOptions {
-    std::string scene;  ///< JSON scene path
-    std::string output; ///< pd-file to write
+    std::string scene;        ///< JSON scene path (or empty with from_peridem)
+    std::string from_peridem; ///< PeriDEM 0.2.x YAML deck to import instead of a scene
+    std::string write_scene;  ///< if set, the scene JSON actually built is written here
+    std::string output;       ///< pd-file to write
+    std::string preview;      ///< if set, a PNG of the scene (workflows/preview/preview.py)
     CommonOptions common;
 };
 

@@ -812,7 +812,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 throw ConfigError(w + ".friction", "must be >= 0");
         }
         if (o.contains("stiffness") && !o["stiffness"].is_string()) {
-            p.stiffness = positive(o, w, "stiffness", 0);
+            p.stiffness = number(o, w, "stiffness", 0); // 0: this pair does not interact
+            if (p.stiffness < 0)
+                throw ConfigError(w + ".stiffness", "must be >= 0 (0 = no contact), or \"auto\"");
         } else if (o.contains("stiffness") || o.contains("stiffness_factor") || !base) {
             text(o, w, "stiffness", "auto", {"auto"});
             // Kn = 18 kappa / (pi delta^(d+2)): kappa the harmonic mean of the two groups' bulk

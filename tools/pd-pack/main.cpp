@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// pd-pack: scene (JSON, comments allowed) -> pd-file (HDF5). Usage: pd-pack SCENE.json -o FILE.h5
+// pd-pack: scene (JSON, comments allowed) or PeriDEM deck -> pd-file (HDF5).
+// Usage: pd-pack SCENE.json -o FILE.h5 | pd-pack --from-peridem input.yaml -o FILE.h5
 #include "core/tool.hpp"
 #include "pipeline/pack.hpp"
 
@@ -8,12 +9,23 @@
 int main(int argc, char** argv) {
     pd::pipeline::PackOptions opt;
     CLI::App app{"pd-pack: build a pdgrain scene (meshes, nodes, bonds, contact) into a pd-file", "pd-pack"};
-    app.add_option("scene", opt.scene, "scene file (JSON; comments allowed)")
-        ->required()
-        ->check(CLI::ExistingFile);
+    auto* scene = app.add_option("scene", opt.scene, "scene file (JSON; comments allowed)")
+                      ->check(CLI::ExistingFile);
+    auto* deck = app.add_option("--from-peridem", opt.from_peridem,
+                                "import a PeriDEM 0.2.x YAML deck (with its .msh and CSV files)")
+                     ->check(CLI::ExistingFile);
+    scene->excludes(deck);
+    app.add_option("--write-scene", opt.write_scene, "also write the scene JSON that is built");
     app.add_option("-o,--output", opt.output, "pd-file to write (HDF5)")->required();
+    app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
     pd::add_common_flags(app, opt.common);
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+        if (opt.scene.empty() && opt.from_peridem.empty())
+            throw CLI::RequiredError("give a SCENE file or --from-peridem DECK");
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
     return pd::run_tool("pd-pack", argc, argv, opt.common,
                         [&](pd::Context& ctx) { pd::pipeline::pack(opt, ctx); });
 }
