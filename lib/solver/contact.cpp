@@ -30,6 +30,24 @@ ContactList::ContactList(const model::Model& m, double skin)
                                         : m.nodes.surface;
 }
 
+bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit) {
+    if (limit <= 0)
+        return true;
+    const double lim2 = limit * limit;
+    bool far = false;
+    const auto n = static_cast<std::int64_t>(s.n);
+#pragma omp parallel for schedule(static) reduction(|| : far) if (n > parallel_min)
+    for (std::int64_t i = 0; i < n; ++i) {
+        double d2 = 0;
+        for (int d = 0; d < 3; ++d) {
+            const double e = s.x[3 * i + d] - x_ref[3 * i + d];
+            d2 += e * e;
+        }
+        far = far || d2 > lim2;
+    }
+    return far;
+}
+
 std::size_t ContactList::num_eligible() const {
     return static_cast<std::size_t>(std::count(eligible_.begin(), eligible_.end(), 1));
 }
@@ -104,22 +122,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
 bool ContactList::update(const State& s) {
     if (!active_)
         return false;
-    if (built_) {
-        const double lim = 0.25 * skin_ * skin_; // (skin/2)^2
-        bool far = false;
-        const auto n = static_cast<std::int64_t>(s.n);
-#pragma omp parallel for schedule(static) reduction(|| : far) if (n > parallel_min)
-        for (std::int64_t i = 0; i < n; ++i) {
-            double d2 = 0;
-            for (int d = 0; d < 3; ++d) {
-                const double e = s.x[3 * i + d] - x_build_[3 * i + d];
-                d2 += e * e;
-            }
-            far = far || d2 > lim;
-        }
-        if (!far)
-            return false;
-    }
+    if (built_ && !moved_farther_than(s, x_build_, 0.5 * skin_))
+        return false;
     rebuild(s);
     return true;
 }

@@ -540,6 +540,18 @@ void Solver::apply_friction() {
     // mu |F_n| opposing the tangential slip, F_n scaled like the normal force under unloading
     // (hysteretic damping), and never more than what stops the slip within the step (stick).
     // Serial over the sorted contact records: deterministic; equal and opposite on node pairs.
+    // Removes from v its component along the normal force F (|F| = fm); returns |v_t|.
+    auto tangential = [](const double* F, double fm, double* v) {
+        double vn = 0;
+        for (int d = 0; d < 3; ++d)
+            vn += v[d] * F[d] / fm;
+        double m2 = 0;
+        for (int d = 0; d < 3; ++d) {
+            v[d] -= vn * F[d] / fm;
+            m2 += v[d] * v[d];
+        }
+        return std::sqrt(m2);
+    };
     auto factor = [&](std::int32_t a, std::int32_t b) {
         auto it = unload_.find({a, b});
         return it == unload_.end() ? 1.0 : it->second;
@@ -552,18 +564,10 @@ void Solver::apply_friction() {
                                     r.force[2] * r.force[2]);
         if (!(fm > 0))
             continue;
-        double n[3], vt[3], vn = 0;
-        for (std::size_t d = 0; d < 3; ++d) {
-            n[d] = r.force[d] / fm;
+        double vt[3];
+        for (std::size_t d = 0; d < 3; ++d)
             vt[d] = s_.v[3 * j + d] - s_.v[3 * i + d];
-            vn += vt[d] * n[d];
-        }
-        double vtm = 0;
-        for (std::size_t d = 0; d < 3; ++d) {
-            vt[d] -= vn * n[d];
-            vtm += vt[d] * vt[d];
-        }
-        vtm = std::sqrt(vtm);
+        const double vtm = tangential(r.force, fm, vt);
         if (!(vtm > 0))
             continue;
         const double mi = s_.rho[i] * s_.vol[i], mj = s_.rho[j] * s_.vol[j];
@@ -589,18 +593,10 @@ void Solver::apply_friction() {
         const double vw[3] = {p.velocity[0] + p.omega[1] * rr[2] - p.omega[2] * rr[1],
                               p.velocity[1] + p.omega[2] * rr[0] - p.omega[0] * rr[2],
                               p.velocity[2] + p.omega[0] * rr[1] - p.omega[1] * rr[0]};
-        double n[3], vt[3], vn = 0;
-        for (std::size_t d = 0; d < 3; ++d) {
-            n[d] = r.force[d] / fm;
+        double vt[3];
+        for (std::size_t d = 0; d < 3; ++d)
             vt[d] = vw[d] - s_.v[3 * i + d];
-            vn += vt[d] * n[d];
-        }
-        double vtm = 0;
-        for (std::size_t d = 0; d < 3; ++d) {
-            vt[d] -= vn * n[d];
-            vtm += vt[d] * vt[d];
-        }
-        vtm = std::sqrt(vtm);
+        const double vtm = tangential(r.force, fm, vt);
         if (!(vtm > 0))
             continue;
         const double stop = s_.rho[i] * s_.vol[i] * vtm / dt_;

@@ -51,6 +51,10 @@ struct BondData {
     std::vector<std::uint8_t> alive; ///< 1 intact, 0 broken
 };
 
+/// True if some node moved farther than `limit` (m) from where it was in `x_ref` (3 per node):
+/// the skin test of the contact and wall candidate lists.
+bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit);
+
 /// Per-body constants of the bond law (bonds never cross bodies).
 struct BodyLaw {
     std::vector<std::uint8_t> lps; ///< 1 = LPS body

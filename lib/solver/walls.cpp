@@ -101,23 +101,7 @@ bool WallContact::update(const State& s) {
                                         w.angular_velocity[2] * w.angular_velocity[2]);
             wall_move = std::max(wall_move, (v + om * extent_) * dt);
         }
-        const double half = 0.5 * skin_;
-        double lim = half - wall_move;
-        bool far = lim <= 0;
-        if (!far) {
-            const double lim2 = lim * lim;
-            const auto n = static_cast<std::int64_t>(s.n);
-#pragma omp parallel for schedule(static) reduction(|| : far) if (n > parallel_min)
-            for (std::int64_t i = 0; i < n; ++i) {
-                double d2 = 0;
-                for (int d = 0; d < 3; ++d) {
-                    const double e = s.x[3 * i + d] - x_build_[3 * i + d];
-                    d2 += e * e;
-                }
-                far = far || d2 > lim2;
-            }
-        }
-        if (!far)
+        if (!moved_farther_than(s, x_build_, 0.5 * skin_ - wall_move))
             return false;
     }
     rebuild(s);
