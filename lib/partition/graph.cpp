@@ -48,6 +48,22 @@ Graph body_graph(const model::Model& m, double reach) {
     return g;
 }
 
+Graph node_graph(const model::Model& m) {
+    Graph g;
+    const auto n = m.nodes.num();
+    g.xadj.assign(1, 0);
+    g.adjncy.reserve(m.bonds.num());
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto a = m.bonds.offsets[i], b = m.bonds.offsets[i + 1];
+        for (auto k = a; k < b; ++k)
+            g.adjncy.push_back(m.bonds.neighbor[static_cast<std::size_t>(k)]);
+        g.xadj.push_back(static_cast<std::int32_t>(g.adjncy.size()));
+        g.vwgt.push_back(static_cast<std::int32_t>(b - a + 1));
+    }
+    g.adjwgt.assign(g.adjncy.size(), 1);
+    return g;
+}
+
 std::int64_t edge_cut(const Graph& g, const std::vector<std::int32_t>& part) {
     std::int64_t cut = 0;
     for (std::size_t v = 0; v < g.num_vertices(); ++v)

@@ -23,6 +23,10 @@ struct Graph {
 /// Sweep over bodies sorted by x: O(nb log nb + candidate pairs).
 Graph body_graph(const model::Model& m, double reach);
 
+/// Node graph: one vertex per node (weight = its bond count + 1), edges = bonds (weight 1).
+/// For few large bodies (a plate, a single grain).
+Graph node_graph(const model::Model& m);
+
 /// Sum of weights of edges whose ends lie in different parts.
 std::int64_t edge_cut(const Graph& g, const std::vector<std::int32_t>& part);
 

@@ -11,6 +11,7 @@ namespace pd::pipeline {
 struct PartitionOptions {
     std::string file;
     int num_parts = 1;
+    std::string by = "auto"; ///< "body" (grain graph), "node" (bond graph) or "auto"
     CommonOptions common;
 };
 

@@ -60,6 +60,11 @@ std::vector<double> observable_row(const solver::Observables& o) {
 } // namespace
 
 void solve(const SolveOptions& opt, Context& ctx) {
+    if (ctx.size > 1)
+        throw InputError(fmt::format("{}: pd-solve runs on one MPI rank in this version (threads: "
+                                     "OMP_NUM_THREADS); distributed runs come with issue #5. "
+                                     "Run it without mpirun -n {}",
+                                     opt.file, ctx.size));
     const double wall0 = wall_seconds();
     auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
     model::Model m = store::read_model(*f); // refuses a file it cannot read, untouched
