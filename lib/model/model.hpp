@@ -123,6 +123,7 @@ enum class TimeFn : std::uint8_t {
     linear = 1,    ///< T = t
     quadratic = 2, ///< T = t + p1 t^2
     sine = 3,      ///< T = sin(pi p1 t)
+    rotation = 4,  ///< rigid in-plane rotation by amplitude * t (rad) about `centre` (spec 5.6)
 };
 
 /// Space function S(X) of a boundary condition, of the reference position.
@@ -144,6 +145,7 @@ struct NodeCondition {
     TimeFn time_fn = TimeFn::constant;
     SpaceFn space_fn = SpaceFn::constant;
     std::array<double, 2> params{0, 0}; ///< p0 (space), p1 (time)
+    std::array<double, 3> centre{0, 0, 0}; ///< rotation centre, m (time_fn rotation)
 };
 
 struct Loading {

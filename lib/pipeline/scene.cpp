@@ -385,8 +385,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     std::map<std::string, std::int32_t> material_index;
     for (auto it = root["materials"].begin(); it != root["materials"].end(); ++it) {
         const std::string w = "materials." + it.key();
-        check_keys(*it, w, {"law", "density", "youngs_modulus", "fracture_energy",
-                            "poisson_ratio", "influence"});
+        check_keys(*it, w, {"law", "density", "youngs_modulus", "bulk_modulus", "shear_modulus",
+                            "poisson_ratio", "fracture_energy", "fracture_toughness",
+                            "influence"});
         model::Material mat;
         mat.name = it.key();
         for (char ch : mat.name)
@@ -406,29 +407,67 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             throw ConfigError(w + ".influence", "the PMB law uses J = 1 (constant); influence "
                                                 "functions apply to laws \"lps\" and \"rnp\"");
         mat.density = positive(*it, w, "density", 0, true);
-        mat.youngs_modulus = positive(*it, w, "youngs_modulus", 0, true);
-        mat.fracture_energy = number(*it, w, "fracture_energy", 0);
+        // Elastic constants: two of E, K, G, nu (spec 1.2-1.3); a bond-based law (pmb, rnp)
+        // fixes nu, so E alone is enough there and a pair must agree with the law's nu.
+        const double nu_law = mat.law == model::Law::rnp   ? 0.25
+                              : mat.law == model::Law::pmb ? model::pmb_poisson_ratio(
+                                                                 m.dimension, m.planar)
+                                                           : -2.0;
+        const bool hE = it->contains("youngs_modulus"), hK = it->contains("bulk_modulus"),
+                   hG = it->contains("shear_modulus"), hn = it->contains("poisson_ratio");
+        const int given = hE + hK + hG + hn;
+        double E = hE ? positive(*it, w, "youngs_modulus", 0) : 0;
+        const double K = hK ? positive(*it, w, "bulk_modulus", 0) : 0;
+        const double G = hG ? positive(*it, w, "shear_modulus", 0) : 0;
+        double nu = hn ? number(*it, w, "poisson_ratio", 0) : nu_law;
+        if (hn && !(nu > -1 && nu < 0.5))
+            throw ConfigError(w + ".poisson_ratio", "must be in (-1, 0.5)");
+        if (given == 1 && hE && nu_law > -2) {
+            // E with the law's nu
+        } else if (given != 2) {
+            throw ConfigError(w, nu_law > -2 ? "give youngs_modulus, or two of youngs_modulus, "
+                                               "bulk_modulus, shear_modulus, poisson_ratio"
+                                             : "give two of youngs_modulus, bulk_modulus, "
+                                               "shear_modulus, poisson_ratio");
+        } else if (hE && hG) {
+            nu = E / (2 * G) - 1;
+        } else if (hE && hK) {
+            nu = (3 * K - E) / (6 * K);
+        } else if (hK && hG) {
+            nu = (3 * K - 2 * G) / (2 * (3 * K + G));
+            E = 9 * K * G / (3 * K + G);
+        } else if (hK && hn) {
+            E = 3 * K * (1 - 2 * nu);
+        } else if (hG && hn) {
+            E = 2 * G * (1 + nu);
+        }
+        if (!(E > 0) || !(nu > -1 && nu < 0.5))
+            throw ConfigError(w, fmt::format("the elastic constants give E = {:.4g} Pa, nu = "
+                                             "{:.4g}: not a stable isotropic solid",
+                                             E, nu));
+        if (nu_law > -2 && std::abs(nu - nu_law) > 1e-6)
+            throw ConfigError(w, fmt::format("the {} law fixes nu = {:.4g} ({}), the constants "
+                                             "given imply nu = {:.4g}",
+                                             mat.law == model::Law::rnp ? "RNP" : "bond-based PMB",
+                                             nu_law,
+                                             mat.law == model::Law::rnp ? "spec 1.4"
+                                             : m.planar == model::Planar::plane_stress
+                                                 ? "2D plane stress"
+                                                 : "plane strain / 3D",
+                                             nu));
+        mat.youngs_modulus = E;
+        mat.poisson_ratio = nu_law > -2 ? nu_law : nu;
+        // Fracture: Gc, or KIc with Gc = KIc^2 / E (spec 1.2).
+        if (it->contains("fracture_energy") && it->contains("fracture_toughness"))
+            throw ConfigError(w, "give fracture_energy or fracture_toughness, not both");
+        mat.fracture_energy =
+            it->contains("fracture_toughness")
+                ? std::pow(positive(*it, w, "fracture_toughness", 0), 2) / E
+                : number(*it, w, "fracture_energy", 0);
         if (mat.fracture_energy < 0)
             throw ConfigError(w + ".fracture_energy", "must be >= 0 (0 = unbreakable)");
-        if (mat.law == model::Law::lps) {
-            mat.poisson_ratio = number(*it, w, "poisson_ratio", 0.25, true);
-            if (!(mat.poisson_ratio > -1 && mat.poisson_ratio < 0.5))
-                throw ConfigError(w + ".poisson_ratio", "must be in (-1, 0.5)");
-        } else if (mat.law == model::Law::rnp) {
-            mat.poisson_ratio = 0.25; // fixed by the law (spec 1.4)
-            if (!(mat.fracture_energy > 0))
-                throw ConfigError(w + ".fracture_energy", "the RNP law needs Gc > 0");
-        } else
-            mat.poisson_ratio = model::pmb_poisson_ratio(m.dimension, m.planar);
-        if (mat.law == model::Law::pmb && it->contains("poisson_ratio") &&
-            std::abs(number(*it, w, "poisson_ratio", 0) - mat.poisson_ratio) > 1e-12)
-            throw ConfigError(w + ".poisson_ratio",
-                              fmt::format("the bond-based PMB law fixes nu = {:.4g} ({}); omit "
-                                          "the key or give that value",
-                                          mat.poisson_ratio,
-                                          m.planar == model::Planar::plane_stress
-                                              ? "2D plane stress"
-                                              : "plane strain / 3D"));
+        if (mat.law == model::Law::rnp && !(mat.fracture_energy > 0))
+            throw ConfigError(w + ".fracture_energy", "the RNP law needs Gc > 0");
         material_index[mat.name] = static_cast<std::int32_t>(m.materials.size());
         m.materials.push_back(mat);
     }
@@ -907,7 +946,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             const std::string w = fmt::format("loading.conditions[{}]", k);
             check_keys(cj, w, {"name", "kind", "particles", "region", "components", "value",
                                "time_function", "time_parameter", "space_function",
-                               "space_parameter"});
+                               "space_parameter", "rotation_center"});
             model::NodeCondition c;
             c.name = text(cj, w, "name", fmt::format("condition_{}", k));
             c.is_force = text(cj, w, "kind", "", {"displacement", "force_density"}) ==
@@ -916,11 +955,20 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 throw ConfigError(w + ".kind", "missing: displacement or force_density");
             c.amplitude = number(cj, w, "value", 0, true);
             const auto tf = text(cj, w, "time_function", "constant",
-                                 {"constant", "linear", "quadratic", "sine"});
+                                 {"constant", "linear", "quadratic", "sine", "rotation"});
             c.time_fn = tf == "constant"    ? model::TimeFn::constant
                         : tf == "linear"    ? model::TimeFn::linear
                         : tf == "quadratic" ? model::TimeFn::quadratic
-                                            : model::TimeFn::sine;
+                        : tf == "sine"      ? model::TimeFn::sine
+                                            : model::TimeFn::rotation;
+            if (c.time_fn == model::TimeFn::rotation) {
+                // value = angular velocity (rad/s) about rotation_center, in the xy plane.
+                if (c.is_force)
+                    throw ConfigError(w + ".time_function", "rotation applies to displacements");
+                c.centre = vec(cj, w, "rotation_center", m.dimension, {0, 0, 0}, true);
+            } else if (cj.contains("rotation_center")) {
+                throw ConfigError(w + ".rotation_center", "only with time_function rotation");
+            }
             const auto sf = text(cj, w, "space_function", "constant",
                                  {"constant", "linear_x", "linear_y", "sine_x"});
             c.space_fn = sf == "constant"   ? model::SpaceFn::constant

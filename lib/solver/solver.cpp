@@ -25,6 +25,7 @@ double time_value(model::TimeFn f, double p1, double t, double* rate) {
     case model::TimeFn::sine:
         *rate = M_PI * p1 * std::cos(M_PI * p1 * t);
         return std::sin(M_PI * p1 * t);
+    case model::TimeFn::rotation: break; // handled by apply_displacements
     }
     return 0;
 }
@@ -486,6 +487,24 @@ void Solver::apply_displacements() {
     for (const auto& c : m_.loading.conditions) {
         if (c.is_force)
             continue;
+        if (c.time_fn == model::TimeFn::rotation) {
+            // u = R(w t)(X - c) - (X - c), v = w R'(w t)(X - c), in the xy plane.
+            const double th = c.amplitude * t, cs = std::cos(th), sn = std::sin(th);
+            for (auto i : c.nodes) {
+                const auto ii = static_cast<std::size_t>(i);
+                const double rx = s_.x0[3 * ii] - c.centre[0], ry = s_.x0[3 * ii + 1] - c.centre[1];
+                const double u[2] = {cs * rx - sn * ry - rx, sn * rx + cs * ry - ry};
+                const double v[2] = {c.amplitude * (-sn * rx - cs * ry),
+                                     c.amplitude * (cs * rx - sn * ry)};
+                for (std::size_t d = 0; d < 2; ++d)
+                    if (c.dofs & (1u << d)) {
+                        s_.u[3 * ii + d] = u[d];
+                        s_.v[3 * ii + d] = v[d];
+                        s_.x[3 * ii + d] = s_.x0[3 * ii + d] + u[d];
+                    }
+            }
+            continue;
+        }
         double rate = 0;
         const double T = time_value(c.time_fn, c.params[1], t, &rate);
         for (auto i : c.nodes) {

@@ -245,6 +245,8 @@ void write_model(h5::File& f, const model::Model& m) {
         put_scalar(f, g + "/amplitude", c.amplitude, c.is_force ? "N m-3" : "m");
         put(f, g + "/parameters", std::vector<double>(c.params.begin(), c.params.end()), {2},
             "1");
+        if (c.time_fn == model::TimeFn::rotation)
+            put(f, g + "/centre", std::vector<double>(c.centre.begin(), c.centre.end()), {3}, "m");
     }
     const std::string s = path::solver;
     const auto& S = m.solver;
@@ -448,7 +450,7 @@ model::Model read_model(const h5::File& f) {
             c.dofs = static_cast<std::uint8_t>(f.attr<std::int32_t>(gc, "dofs"));
             const auto tf = f.attr<std::int32_t>(gc, "time_function");
             const auto sf = f.attr<std::int32_t>(gc, "space_function");
-            if (tf < 0 || tf > 3 || sf < 0 || sf > 3 || c.dofs == 0 || c.dofs > 7)
+            if (tf < 0 || tf > 4 || sf < 0 || sf > 3 || c.dofs == 0 || c.dofs > 7)
                 throw SchemaError(f.name(), gc, "bad dofs, time_function or space_function");
             c.time_fn = static_cast<model::TimeFn>(tf);
             c.space_fn = static_cast<model::SpaceFn>(sf);
@@ -457,6 +459,10 @@ model::Model read_model(const h5::File& f) {
             c.amplitude = get_scalar<double>(f, gc + "/amplitude");
             auto p = get<double>(f, gc + "/parameters", {2});
             c.params = {p[0], p[1]};
+            if (c.time_fn == model::TimeFn::rotation) {
+                auto ce = get<double>(f, gc + "/centre", {3});
+                c.centre = {ce[0], ce[1], ce[2]};
+            }
             m.loading.conditions.push_back(std::move(c));
         }
     const std::string cs = std::string(path::cracks) + "/segments";

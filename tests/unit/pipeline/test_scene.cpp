@@ -76,3 +76,33 @@ TEST(Scene, CommentsAllowed) {
 }
 
 } // namespace
+
+namespace {
+
+std::string with_material(const std::string& mat) {
+    return R"({"dimension": 2, "materials": {"m": {"density": 1000, )" + mat + R"(}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m"}],
+      "solver": {"final_time": 1e-3}})";
+}
+
+TEST(Scene, TwoOfEKGNuAndToughness) {
+    // LPS from K and G: E = 9KG/(3K+G), nu = (3K-2G)/(2(3K+G)) (spec 1.3).
+    auto m = pipeline::build_scene(
+        with_material(R"("law": "lps", "bulk_modulus": 2.16e7, "shear_modulus": 1.296e7,
+                         "fracture_toughness": 1000)"),
+        "s", quiet);
+    EXPECT_NEAR(m.materials[0].youngs_modulus, 3.24e7, 1e-6);
+    EXPECT_NEAR(m.materials[0].poisson_ratio, 0.25, 1e-12);
+    EXPECT_NEAR(m.materials[0].fracture_energy, 1e6 / 3.24e7, 1e-12); // KIc^2 / E
+    // PMB in plane stress fixes nu = 1/3: E and G must agree with it (G = E / (2 (1 + nu))).
+    m = pipeline::build_scene(with_material(R"("youngs_modulus": 8e9, "shear_modulus": 3e9)"),
+                              "s", quiet);
+    EXPECT_NEAR(m.materials[0].youngs_modulus, 8e9, 1e-3);
+    auto e = error_of(with_material(R"("youngs_modulus": 8e9, "shear_modulus": 4e9)"));
+    EXPECT_NE(e.find("fixes nu"), std::string::npos) << e;
+    e = error_of(with_material(R"("law": "lps", "youngs_modulus": 8e9)"));
+    EXPECT_NE(e.find("two of"), std::string::npos) << e;
+}
+
+} // namespace

@@ -190,3 +190,30 @@ TEST(Conditions, DisplacementAndForceFollowTheirFunctions) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(Conditions, RotationIsRigid) {
+    auto m = pipeline::build_scene(
+        scene(R"({"radius": 1e-3, "center": [2e-3, 1e-3], "material": "m1"})",
+              R"("loading": {"conditions": [
+                  {"kind": "displacement", "particles": [0], "components": ["x", "y"],
+                   "value": 100, "time_function": "rotation", "rotation_center": [1e-3, 0]}]})"),
+        "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.5 * s.stable_dt().limit);
+    s.initialize();
+    for (int k = 0; k < 100; ++k)
+        s.advance();
+    const auto& st = s.state();
+    const double th = 100 * st.time, c = std::cos(th), sn = std::sin(th);
+    for (std::size_t i = 0; i < st.n; ++i) {
+        const double rx = st.x0[3 * i] - 1e-3, ry = st.x0[3 * i + 1];
+        EXPECT_NEAR(st.x[3 * i], 1e-3 + c * rx - sn * ry, 1e-15);
+        EXPECT_NEAR(st.x[3 * i + 1], sn * rx + c * ry, 1e-15);
+        EXPECT_NEAR(st.v[3 * i], -100 * (sn * rx + c * ry), 1e-12);
+    }
+    EXPECT_LT(s.observe().elastic_energy, 1e-20); // rigid: no strain
+}
+
+} // namespace
