@@ -124,6 +124,8 @@ enum class TimeFn : std::uint8_t {
     quadratic = 2, ///< T = t + p1 t^2
     sine = 3,      ///< T = sin(pi p1 t)
     rotation = 4,  ///< rigid in-plane rotation by amplitude * t (rad) about `centre` (spec 5.6)
+    linear_step = 5,      ///< force only: staircase L(t; p1, p2) of spec 5.7
+    linear_slow_fast = 6, ///< force only: p2 t for t <= p1, p3 t after (spec 5.7)
 };
 
 /// Space function S(X) of a boundary condition, of the reference position.
@@ -132,6 +134,8 @@ enum class SpaceFn : std::uint8_t {
     linear_x = 1, ///< S = p0 x
     linear_y = 2, ///< S = p0 y
     sine_x = 3,   ///< S = sin(pi p0 x)
+    hat_x = 4,    ///< S = p0 max(0, 1 - |2 (x - x_c) / L_x|) over the selected nodes' box
+    hat_y = 5,    ///< same along y
 };
 
 /// A displacement or force condition on a node set resolved at pack time from bodies and/or a
@@ -144,7 +148,7 @@ struct NodeCondition {
     double amplitude = 0;           ///< m (displacement) or N m-3 (force density)
     TimeFn time_fn = TimeFn::constant;
     SpaceFn space_fn = SpaceFn::constant;
-    std::array<double, 2> params{0, 0}; ///< p0 (space), p1 (time)
+    std::array<double, 4> params{0, 0, 0, 0}; ///< p0 (space), p1, p2, p3 (time)
     std::array<double, 3> centre{0, 0, 0}; ///< rotation centre, m (time_fn rotation)
 };
 

@@ -946,7 +946,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             const std::string w = fmt::format("loading.conditions[{}]", k);
             check_keys(cj, w, {"name", "kind", "particles", "region", "components", "value",
                                "time_function", "time_parameter", "space_function",
-                               "space_parameter", "rotation_center"});
+                               "space_parameter", "rotation_center", "time_parameters"});
             model::NodeCondition c;
             c.name = text(cj, w, "name", fmt::format("condition_{}", k));
             c.is_force = text(cj, w, "kind", "", {"displacement", "force_density"}) ==
@@ -955,12 +955,19 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 throw ConfigError(w + ".kind", "missing: displacement or force_density");
             c.amplitude = number(cj, w, "value", 0, true);
             const auto tf = text(cj, w, "time_function", "constant",
-                                 {"constant", "linear", "quadratic", "sine", "rotation"});
-            c.time_fn = tf == "constant"    ? model::TimeFn::constant
-                        : tf == "linear"    ? model::TimeFn::linear
-                        : tf == "quadratic" ? model::TimeFn::quadratic
-                        : tf == "sine"      ? model::TimeFn::sine
-                                            : model::TimeFn::rotation;
+                                 {"constant", "linear", "quadratic", "sine", "rotation",
+                                  "linear_step", "linear_slow_fast"});
+            c.time_fn = tf == "constant"      ? model::TimeFn::constant
+                        : tf == "linear"      ? model::TimeFn::linear
+                        : tf == "quadratic"   ? model::TimeFn::quadratic
+                        : tf == "sine"        ? model::TimeFn::sine
+                        : tf == "rotation"    ? model::TimeFn::rotation
+                        : tf == "linear_step" ? model::TimeFn::linear_step
+                                              : model::TimeFn::linear_slow_fast;
+            if ((c.time_fn == model::TimeFn::linear_step ||
+                 c.time_fn == model::TimeFn::linear_slow_fast) &&
+                !c.is_force)
+                throw ConfigError(w + ".time_function", tf + " applies to force_density (spec 5.7)");
             if (c.time_fn == model::TimeFn::rotation) {
                 // value = angular velocity (rad/s) about rotation_center, in the xy plane.
                 if (c.is_force)
@@ -970,13 +977,23 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 throw ConfigError(w + ".rotation_center", "only with time_function rotation");
             }
             const auto sf = text(cj, w, "space_function", "constant",
-                                 {"constant", "linear_x", "linear_y", "sine_x"});
+                                 {"constant", "linear_x", "linear_y", "sine_x", "hat_x", "hat_y"});
             c.space_fn = sf == "constant"   ? model::SpaceFn::constant
                          : sf == "linear_x" ? model::SpaceFn::linear_x
                          : sf == "linear_y" ? model::SpaceFn::linear_y
-                                            : model::SpaceFn::sine_x;
+                         : sf == "sine_x"   ? model::SpaceFn::sine_x
+                         : sf == "hat_x"    ? model::SpaceFn::hat_x
+                                            : model::SpaceFn::hat_y;
             c.params = {number(cj, w, "space_parameter", 1.0),
-                        number(cj, w, "time_parameter", 0.0)};
+                        number(cj, w, "time_parameter", 0.0), 0.0, 0.0};
+            if (cj.contains("time_parameters")) {
+                const auto& tp = cj["time_parameters"];
+                if (!tp.is_array() || tp.empty() || tp.size() > 3 || cj.contains("time_parameter"))
+                    throw ConfigError(w + ".time_parameters",
+                                      "expected [p1, p2, p3] (instead of time_parameter)");
+                for (std::size_t q = 0; q < tp.size(); ++q)
+                    c.params[q + 1] = tp[q].get<double>();
+            }
             if (!cj.contains("components") || !cj["components"].is_array() ||
                 cj["components"].empty())
                 throw ConfigError(w + ".components", "missing: a list of \"x\", \"y\", \"z\"");

@@ -17,7 +17,8 @@ namespace pd::solver {
 
 namespace {
 
-double time_value(model::TimeFn f, double p1, double t, double* rate) {
+double time_value(model::TimeFn f, const std::array<double, 4>& p, double t, double* rate) {
+    const double p1 = p[1], p2 = p[2], p3 = p[3];
     switch (f) {
     case model::TimeFn::constant: *rate = 0; return 1;
     case model::TimeFn::linear: *rate = 1; return t;
@@ -26,16 +27,37 @@ double time_value(model::TimeFn f, double p1, double t, double* rate) {
         *rate = M_PI * p1 * std::cos(M_PI * p1 * t);
         return std::sin(M_PI * p1 * t);
     case model::TimeFn::rotation: break; // handled by apply_displacements
+    case model::TimeFn::linear_step: {
+        // Staircase (spec 5.7): ramps of duration p1 separated by plateaus of duration p2.
+        const double P = p1 + p2;
+        const double k = std::floor(t / P);
+        if (t < k * P + p1) {
+            *rate = 1;
+            return t - k * p2;
+        }
+        *rate = 0;
+        return (k + 1) * p1;
+    }
+    case model::TimeFn::linear_slow_fast:
+        *rate = t <= p1 ? p2 : p3;
+        return *rate * t;
     }
     return 0;
 }
 
-double space_value(model::SpaceFn f, double p0, const double* X) {
+/// `box`: xmin, xmax, ymin, ymax of the condition's nodes (hat functions).
+double space_value(model::SpaceFn f, double p0, const double* X, const std::array<double, 4>& box) {
+    auto hat = [&](double x, double lo, double hi) {
+        const double L = hi - lo;
+        return L > 0 ? p0 * std::max(0.0, 1 - std::abs(2 * (x - 0.5 * (lo + hi)) / L)) : p0;
+    };
     switch (f) {
     case model::SpaceFn::constant: return 1;
     case model::SpaceFn::linear_x: return p0 * X[0];
     case model::SpaceFn::linear_y: return p0 * X[1];
     case model::SpaceFn::sine_x: return std::sin(M_PI * p0 * X[0]);
+    case model::SpaceFn::hat_x: return hat(X[0], box[0], box[1]);
+    case model::SpaceFn::hat_y: return hat(X[1], box[2], box[3]);
     }
     return 0;
 }
@@ -72,6 +94,15 @@ Solver::Solver(const model::Model& m) : m_(m) {
     s_.moving.resize(n);
     s_.fixed_dof.assign(n, 0);
     for (const auto& c : m.loading.conditions) {
+        std::array<double, 4> box{1e300, -1e300, 1e300, -1e300};
+        for (auto i : c.nodes) {
+            const auto ii = static_cast<std::size_t>(i);
+            box[0] = std::min(box[0], s_.x0[3 * ii]);
+            box[1] = std::max(box[1], s_.x0[3 * ii]);
+            box[2] = std::min(box[2], s_.x0[3 * ii + 1]);
+            box[3] = std::max(box[3], s_.x0[3 * ii + 1]);
+        }
+        cond_box_.push_back(box);
         if (!c.is_force) {
             for (auto i : c.nodes)
                 s_.fixed_dof[static_cast<std::size_t>(i)] |= c.dofs;
@@ -336,10 +367,11 @@ void Solver::compute_forces() {
         if (!c.is_force)
             continue;
         double rate = 0;
-        const double T = time_value(c.time_fn, c.params[1], s_.time, &rate);
+        const double T = time_value(c.time_fn, c.params, s_.time, &rate);
+        const auto& box = cond_box_[static_cast<std::size_t>(&c - m_.loading.conditions.data())];
         for (auto i : c.nodes) {
             const auto ii = static_cast<std::size_t>(i);
-            const double S = space_value(c.space_fn, c.params[0], &s_.x0[3 * ii]);
+            const double S = space_value(c.space_fn, c.params[0], &s_.x0[3 * ii], box);
             for (std::size_t d = 0; d < 3; ++d)
                 if (c.dofs & (1u << d)) {
                     s_.f[3 * ii + d] += c.amplitude * T * S;
@@ -506,10 +538,11 @@ void Solver::apply_displacements() {
             continue;
         }
         double rate = 0;
-        const double T = time_value(c.time_fn, c.params[1], t, &rate);
+        const double T = time_value(c.time_fn, c.params, t, &rate);
+        const auto& box = cond_box_[static_cast<std::size_t>(&c - m_.loading.conditions.data())];
         for (auto i : c.nodes) {
             const auto ii = static_cast<std::size_t>(i);
-            const double S = space_value(c.space_fn, c.params[0], &s_.x0[3 * ii]);
+            const double S = space_value(c.space_fn, c.params[0], &s_.x0[3 * ii], box);
             for (std::size_t d = 0; d < 3; ++d)
                 if (c.dofs & (1u << d)) {
                     s_.u[3 * ii + d] = c.amplitude * T * S;

@@ -243,7 +243,7 @@ void write_model(h5::File& f, const model::Model& m) {
         f.set_attr(g, "space_function", static_cast<std::int32_t>(c.space_fn));
         put(f, g + "/nodes", c.nodes, {c.nodes.size()}, "1");
         put_scalar(f, g + "/amplitude", c.amplitude, c.is_force ? "N m-3" : "m");
-        put(f, g + "/parameters", std::vector<double>(c.params.begin(), c.params.end()), {2},
+        put(f, g + "/parameters", std::vector<double>(c.params.begin(), c.params.end()), {4},
             "1");
         if (c.time_fn == model::TimeFn::rotation)
             put(f, g + "/centre", std::vector<double>(c.centre.begin(), c.centre.end()), {3}, "m");
@@ -450,15 +450,15 @@ model::Model read_model(const h5::File& f) {
             c.dofs = static_cast<std::uint8_t>(f.attr<std::int32_t>(gc, "dofs"));
             const auto tf = f.attr<std::int32_t>(gc, "time_function");
             const auto sf = f.attr<std::int32_t>(gc, "space_function");
-            if (tf < 0 || tf > 4 || sf < 0 || sf > 3 || c.dofs == 0 || c.dofs > 7)
+            if (tf < 0 || tf > 6 || sf < 0 || sf > 5 || c.dofs == 0 || c.dofs > 7)
                 throw SchemaError(f.name(), gc, "bad dofs, time_function or space_function");
             c.time_fn = static_cast<model::TimeFn>(tf);
             c.space_fn = static_cast<model::SpaceFn>(sf);
             c.nodes = get<std::int32_t>(f, gc + "/nodes", {0});
             require_range<std::int32_t>(f, gc + "/nodes", c.nodes, 0, static_cast<std::int32_t>(n));
             c.amplitude = get_scalar<double>(f, gc + "/amplitude");
-            auto p = get<double>(f, gc + "/parameters", {2});
-            c.params = {p[0], p[1]};
+            auto p = get<double>(f, gc + "/parameters", {4});
+            c.params = {p[0], p[1], p[2], p[3]};
             if (c.time_fn == model::TimeFn::rotation) {
                 auto ce = get<double>(f, gc + "/centre", {3});
                 c.centre = {ce[0], ce[1], ce[2]};

@@ -90,7 +90,7 @@ def make(path, frames=3, dimension=2):
             c.attrs[a] = np.int32(v)
         _ds(c, "nodes", [0, 1], "1", np.int32)
         _ds(c, "amplitude", np.float64(1e-3), "m")
-        _ds(c, "parameters", [0.0, 0.0], "1", np.float64)
+        _ds(c, "parameters", [0.0, 0.0, 0.0, 0.0], "1", np.float64)
         _ds(f, "cracks/segments", [[[0, 0, 0], [5e-4, 5e-4, 0]]], "m", np.float64)
         s = f.create_group("solver")
         s.attrs["integrator"] = "velocity_verlet"
