@@ -278,7 +278,7 @@ ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim,
     for (auto it = o.begin(); it != o.end(); ++it)
         if (std::find(shape_keys.begin(), shape_keys.end(), it.key()) != shape_keys.end())
             geo[it.key()] = *it;
-    ShapeSpec sp{parse_shape(geo, w, dim)};
+    ShapeSpec sp{parse_shape(geo, w, dim), "gmsh", "", false, 0};
     sp.method = text(o, w, "mesh", "gmsh", {"gmsh", "grid", "file"});
     if (sp.method == "file") {
         sp.file = resolve(base, text(o, w, "file", ""));
@@ -522,7 +522,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         if (name == "disc" && !shapes.count("disc")) {
             if (!(radius > 0))
                 throw ConfigError(w + ".radius", "a disc needs a positive radius");
-            shapes.emplace("disc", ShapeSpec{geometry::Shape::circle(radius)});
+            shapes.emplace("disc", ShapeSpec{geometry::Shape::circle(radius), "gmsh", "", false, 0});
         }
         if (!shapes.count(name))
             throw ConfigError(w + ".shape", "no shape named '" + name + "' in shapes");
