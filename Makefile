@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
-.PHONY: all deps configure build test demo bench format clean
+.PHONY: all deps configure build test demo bench format format-check clean
 
 all: build
 
@@ -26,8 +26,13 @@ test: build
 demo: build
 	@bash workflows/demo/run.sh $(BUILD)
 
+SOURCES = $(shell find lib tools tests workflows -name '*.cpp' -o -name '*.hpp')
+
 format:
-	@find lib tools tests -name '*.cpp' -o -name '*.hpp' | xargs clang-format-14 -i
+	@clang-format-14 -i $(SOURCES)
+
+format-check:
+	@clang-format-14 --dry-run -Werror $(SOURCES)
 
 clean:
 	@rm -rf $(BUILD)

@@ -27,7 +27,8 @@ class InputError : public Error {
 class ConfigError : public InputError {
   public:
     ConfigError(std::string key, const std::string& why)
-        : InputError(fmt::format("{}: {}", key, why)), key_(std::move(key)) {}
+        : InputError(fmt::format("{}: {}", key, why))
+        , key_(std::move(key)) {}
     const std::string& key() const { return key_; }
 
   private:
@@ -55,8 +56,8 @@ class InternalError : public Error {
 
 [[noreturn]] inline void check_failed(const char* expr, const std::string& msg,
                                       std::source_location loc) {
-    throw InternalError(fmt::format("internal check '{}' failed at {}:{}: {} (please report)",
-                                    expr, loc.file_name(), loc.line(), msg));
+    throw InternalError(fmt::format("internal check '{}' failed at {}:{}: {} (please report)", expr,
+                                    loc.file_name(), loc.line(), msg));
 }
 
 } // namespace pd

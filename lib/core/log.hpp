@@ -14,7 +14,9 @@ enum class Verbosity { quiet = 0, normal = 1, debug = 2 };
 class Log {
   public:
     Log(std::string tool, int rank = 0, Verbosity v = Verbosity::normal)
-        : tool_(std::move(tool)), rank_(rank), verbosity_(v) {}
+        : tool_(std::move(tool))
+        , rank_(rank)
+        , verbosity_(v) {}
 
     template <class... A>
     void info(fmt::format_string<A...> f, A&&... a) const {

@@ -16,7 +16,8 @@ int Timers::id(const std::string& label) {
 }
 
 std::string Timers::table(double wall) const {
-    std::string s = fmt::format("{:<34} {:>10} {:>12} {:>7}\n", "timer", "calls", "seconds", "share");
+    std::string s =
+        fmt::format("{:<34} {:>10} {:>12} {:>7}\n", "timer", "calls", "seconds", "share");
     for (std::size_t i = 0; i < label_.size(); ++i)
         s += fmt::format("{:<34} {:>10} {:>12.4f} {:>6.1f}%\n", label_[i], calls_[i], total_[i],
                          wall > 0 ? 100.0 * total_[i] / wall : 0.0);

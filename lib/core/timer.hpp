@@ -29,10 +29,13 @@ class Timers {
 /// RAII scope timer: adds the elapsed time to one Timers entry.
 class ScopedTimer {
   public:
-    ScopedTimer(Timers& t, int id) : t_(t), id_(id), start_(std::chrono::steady_clock::now()) {}
+    ScopedTimer(Timers& t, int id)
+        : t_(t)
+        , id_(id)
+        , start_(std::chrono::steady_clock::now()) {}
     ~ScopedTimer() {
-        t_.add(id_, std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
-                        .count());
+        t_.add(id_,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
     }
     ScopedTimer(const ScopedTimer&) = delete;
     ScopedTimer& operator=(const ScopedTimer&) = delete;

@@ -47,7 +47,9 @@ hid_t native() {
         return H5T_NATIVE_UINT64;
 }
 
-std::vector<hsize_t> to_h(const dims_t& d) { return {d.begin(), d.end()}; }
+std::vector<hsize_t> to_h(const dims_t& d) {
+    return {d.begin(), d.end()};
+}
 
 std::uint64_t product(const dims_t& d) {
     return std::accumulate(d.begin(), d.end(), std::uint64_t{1}, std::multiplies<>{});
@@ -83,14 +85,29 @@ Handle::~Handle() {
     if (id_ < 0)
         return;
     switch (H5Iget_type(id_)) {
-    case H5I_FILE: H5Fclose(id_); break;
-    case H5I_GROUP: H5Gclose(id_); break;
-    case H5I_DATASET: H5Dclose(id_); break;
-    case H5I_DATASPACE: H5Sclose(id_); break;
-    case H5I_DATATYPE: H5Tclose(id_); break;
-    case H5I_ATTR: H5Aclose(id_); break;
-    case H5I_GENPROP_LST: H5Pclose(id_); break;
-    default: break;
+    case H5I_FILE:
+        H5Fclose(id_);
+        break;
+    case H5I_GROUP:
+        H5Gclose(id_);
+        break;
+    case H5I_DATASET:
+        H5Dclose(id_);
+        break;
+    case H5I_DATASPACE:
+        H5Sclose(id_);
+        break;
+    case H5I_DATATYPE:
+        H5Tclose(id_);
+        break;
+    case H5I_ATTR:
+        H5Aclose(id_);
+        break;
+    case H5I_GENPROP_LST:
+        H5Pclose(id_);
+        break;
+    default:
+        break;
     }
     id_ = -1;
 }
@@ -106,7 +123,8 @@ void File::fail(const std::string& path, const std::string& what) const {
     throw Error(name_, path, stack.empty() ? what : what + " (" + stack + ")");
 }
 
-File::File(const std::string& name, Mode mode, const void* mpi_comm) : name_(name) {
+File::File(const std::string& name, Mode mode, const void* mpi_comm)
+    : name_(name) {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
     xfer_ = Handle(H5Pcreate(H5P_DATASET_XFER));
     if (mpi_comm) {
@@ -123,8 +141,7 @@ File::File(const std::string& name, Mode mode, const void* mpi_comm) : name_(nam
     } else {
         if (!is_hdf5(name))
             throw Error(name, "/", "not an HDF5 file, or unreadable (missing or truncated?)");
-        id = H5Fopen(name.c_str(), mode == Mode::read ? H5F_ACC_RDONLY : H5F_ACC_RDWR,
-                     fapl.get());
+        id = H5Fopen(name.c_str(), mode == Mode::read ? H5F_ACC_RDONLY : H5F_ACC_RDWR, fapl.get());
         if (id < 0)
             fail("/", mode == Mode::read ? "cannot open for reading" : "cannot open for writing");
     }
@@ -175,7 +192,9 @@ void File::create_group(const std::string& path) {
         fail(path, "cannot create group");
 }
 
-void File::ensure_parent(const std::string& path) { create_group(parent_of(path)); }
+void File::ensure_parent(const std::string& path) {
+    create_group(parent_of(path));
+}
 
 std::vector<std::string> File::list(const std::string& group) const {
     Handle g(H5Gopen2(id_.get(), group.c_str(), H5P_DEFAULT));
@@ -242,10 +261,14 @@ char File::type_class(const std::string& path) const {
     Handle d = open_dataset(path);
     Handle t(H5Dget_type(d.get()));
     switch (H5Tget_class(t.get())) {
-    case H5T_FLOAT: return 'f';
-    case H5T_INTEGER: return H5Tget_sign(t.get()) == H5T_SGN_NONE ? 'u' : 'i';
-    case H5T_STRING: return 's';
-    default: return '?';
+    case H5T_FLOAT:
+        return 'f';
+    case H5T_INTEGER:
+        return H5Tget_sign(t.get()) == H5T_SGN_NONE ? 'u' : 'i';
+    case H5T_STRING:
+        return 's';
+    default:
+        return '?';
     }
 }
 
@@ -264,8 +287,8 @@ void File::write(const std::string& path, std::span<const T> data, const dims_t&
     remove(path);
     auto h = to_h(dims);
     Handle space(H5Screate_simple(static_cast<int>(h.size()), h.data(), nullptr));
-    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT,
-                        H5P_DEFAULT, H5P_DEFAULT));
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                        H5P_DEFAULT));
     if (!d.valid())
         fail(path, "cannot create dataset");
     if (!data.empty() &&
@@ -278,8 +301,8 @@ void File::write_scalar(const std::string& path, T value) {
     ensure_parent(path);
     remove(path);
     Handle space(H5Screate(H5S_SCALAR));
-    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT,
-                        H5P_DEFAULT, H5P_DEFAULT));
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                        H5P_DEFAULT));
     if (!d.valid() || H5Dwrite(d.get(), native<T>(), H5S_ALL, H5S_ALL, xfer_.get(), &value) < 0)
         fail(path, "cannot write scalar");
 }
@@ -362,8 +385,8 @@ std::vector<T> File::read_rows(const std::string& path, std::uint64_t row0,
     H5Sselect_hyperslab(fs.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
     Handle ms(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
     std::vector<T> out(product(dims_t(cnt.begin(), cnt.end())));
-    if (!out.empty() && H5Dread(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(),
-                                out.data()) < 0)
+    if (!out.empty() &&
+        H5Dread(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), out.data()) < 0)
         fail(path, "read failed");
     return out;
 }
@@ -382,8 +405,8 @@ void File::create_extendible(const std::string& path, const dims_t& inner,
     Handle space(H5Screate_simple(static_cast<int>(cur.size()), cur.data(), max.data()));
     Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
     H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data());
-    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT,
-                        dcpl.get(), H5P_DEFAULT));
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT, dcpl.get(),
+                        H5P_DEFAULT));
     if (!d.valid())
         fail(path, "cannot create extendible dataset");
 }
@@ -410,8 +433,8 @@ void File::write_rows(const std::string& path, std::span<const T> data, std::uin
     for (auto c : cnt)
         n *= c;
     if (n != data.size())
-        throw InternalError(fmt::format("{}: {}: {} values for {} rows", name_, path,
-                                        data.size(), rows));
+        throw InternalError(
+            fmt::format("{}: {}: {} values for {} rows", name_, path, data.size(), rows));
     Handle fs(H5Dget_space(d.get()));
     H5Sselect_hyperslab(fs.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
     Handle ms(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
@@ -543,8 +566,8 @@ std::vector<std::string> File::attr_names(const std::string& path) const {
     H5Oget_info(o.get(), &info);
     std::vector<std::string> names;
     for (hsize_t i = 0; i < info.num_attrs; ++i) {
-        Handle a(H5Aopen_by_idx(o.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT,
-                                H5P_DEFAULT));
+        Handle a(
+            H5Aopen_by_idx(o.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT));
         ssize_t n = H5Aget_name(a.get(), 0, nullptr);
         std::string s(static_cast<std::size_t>(n), '\0');
         H5Aget_name(a.get(), s.size() + 1, s.data());
@@ -554,20 +577,20 @@ std::vector<std::string> File::attr_names(const std::string& path) const {
 }
 
 #define PD_H5_INSTANTIATE(T)                                                                       \
-    template void File::write<T>(const std::string&, std::span<const T>, const dims_t&);          \
-    template void File::write_scalar<T>(const std::string&, T);                                   \
-    template std::vector<T> File::read<T>(const std::string&, dims_t*) const;                     \
-    template T File::read_scalar<T>(const std::string&) const;                                    \
-    template std::vector<T> File::read_rows<T>(const std::string&, std::uint64_t, std::uint64_t)  \
+    template void File::write<T>(const std::string&, std::span<const T>, const dims_t&);           \
+    template void File::write_scalar<T>(const std::string&, T);                                    \
+    template std::vector<T> File::read<T>(const std::string&, dims_t*) const;                      \
+    template T File::read_scalar<T>(const std::string&) const;                                     \
+    template std::vector<T> File::read_rows<T>(const std::string&, std::uint64_t, std::uint64_t)   \
         const;                                                                                     \
-    template void File::create_extendible<T>(const std::string&, const dims_t&, std::uint64_t);   \
-    template void File::append<T>(const std::string&, std::span<const T>, std::uint64_t);         \
-    template void File::write_rows<T>(const std::string&, std::span<const T>, std::uint64_t,      \
+    template void File::create_extendible<T>(const std::string&, const dims_t&, std::uint64_t);    \
+    template void File::append<T>(const std::string&, std::span<const T>, std::uint64_t);          \
+    template void File::write_rows<T>(const std::string&, std::span<const T>, std::uint64_t,       \
                                       std::uint64_t);                                              \
-    template void File::set_attr<T>(const std::string&, const std::string&, T);                   \
-    template void File::set_attr<T>(const std::string&, const std::string&,                       \
+    template void File::set_attr<T>(const std::string&, const std::string&, T);                    \
+    template void File::set_attr<T>(const std::string&, const std::string&,                        \
                                     const std::vector<T>&);                                        \
-    template std::vector<T> File::attr_vector<T>(const std::string&, const std::string&) const;   \
+    template std::vector<T> File::attr_vector<T>(const std::string&, const std::string&) const;    \
     template T File::attr<T>(const std::string&, const std::string&) const;
 
 PD_H5_INSTANTIATE(double)

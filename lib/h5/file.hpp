@@ -26,8 +26,12 @@ class Error : public InputError {
 class Handle {
   public:
     Handle() = default;
-    explicit Handle(hid id) : id_(id) {}
-    Handle(Handle&& o) noexcept : id_(o.id_) { o.id_ = -1; }
+    explicit Handle(hid id)
+        : id_(id) {}
+    Handle(Handle&& o) noexcept
+        : id_(o.id_) {
+        o.id_ = -1;
+    }
     Handle& operator=(Handle&& o) noexcept;
     Handle(const Handle&) = delete;
     Handle& operator=(const Handle&) = delete;
@@ -44,8 +48,8 @@ enum class Mode { read, read_write, create_truncate };
 /// Element types datasets and attributes may hold.
 template <class T>
 concept Element = std::same_as<T, double> || std::same_as<T, float> ||
-                  std::same_as<T, std::int32_t> || std::same_as<T, std::int64_t> ||
-                  std::same_as<T, std::uint8_t> || std::same_as<T, std::uint64_t>;
+    std::same_as<T, std::int32_t> || std::same_as<T, std::int64_t> ||
+    std::same_as<T, std::uint8_t> || std::same_as<T, std::uint64_t>;
 
 /// Open HDF5 file. Paths are absolute ("/nodes/volume"); parents are created on write.
 class File {

@@ -5,14 +5,16 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace pd::mesh {
 
 namespace {
-const double* node(const model::RefMesh& m, std::int32_t i) { return &m.nodes[3 * i]; }
+const double* node(const model::RefMesh& m, std::int32_t i) {
+    return &m.nodes[3 * i];
+}
 double dist(const double* a, const double* b) {
     return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
                      (a[2] - b[2]) * (a[2] - b[2]));

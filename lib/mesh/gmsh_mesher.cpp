@@ -48,8 +48,8 @@ model::RefMesh collect_triangles(const std::string& name) {
 
 model::RefMesh mesh_disc(double radius, double h) {
     if (!(radius > 0) || !(h > 0) || h > radius)
-        throw InputError(fmt::format("disc mesh: need 0 < h <= radius, got h = {}, radius = {}", h,
-                                     radius));
+        throw InputError(
+            fmt::format("disc mesh: need 0 < h <= radius, got h = {}, radius = {}", h, radius));
     GmshSession session;
     gmsh::model::add("disc");
     const int disc = gmsh::model::occ::addDisk(0, 0, 0, radius, radius);

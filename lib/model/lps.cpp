@@ -22,8 +22,8 @@ LpsConstants lps_constants(const Material& m, double delta, int dimension, Plana
         k.alpha = 15;
         denom = 3 * mu + std::pow(0.75, 4) * (k.kappa - 5 * mu / 3);
     } else {
-        const double lam = planar == Planar::plane_stress ? 2 * lambda * mu / (lambda + 2 * mu)
-                                                          : lambda;
+        const double lam =
+            planar == Planar::plane_stress ? 2 * lambda * mu / (lambda + 2 * mu) : lambda;
         k.kappa = lam + mu;
         k.alpha = 8;
         denom = 6 * mu / pi + 16 / (9 * pi * pi) * (k.kappa - 2 * mu);

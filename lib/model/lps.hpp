@@ -31,9 +31,12 @@ LpsConstants lps_constants(const Material& m, double delta, int dimension, Plana
 /// J(q), q = r / delta in [0, 1).
 inline double influence(Influence f, double q) {
     switch (f) {
-    case Influence::constant: return 1.0;
-    case Influence::linear: return 1.0 - q;
-    case Influence::gaussian: return std::exp(-q * q / 0.2);
+    case Influence::constant:
+        return 1.0;
+    case Influence::linear:
+        return 1.0 - q;
+    case Influence::gaussian:
+        return std::exp(-q * q / 0.2);
     }
     return 1.0;
 }

@@ -9,7 +9,9 @@
 
 namespace pd::model {
 
-double Material::bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }
+double Material::bulk_modulus() const {
+    return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio));
+}
 
 const ContactPair* Model::contact_between(std::int32_t a, std::int32_t b) const {
     for (const auto& c : contact)

@@ -37,7 +37,7 @@ struct Material {
     double poisson_ratio = 0;   ///< 1 (bond-based: fixed by the law, 1/3 plane stress, 1/4 3D)
     double fracture_energy = 0; ///< Gc, J m-2; 0 = unbreakable
     Influence influence = Influence::constant; ///< LPS only (PMB uses J = 1)
-    double bulk_modulus() const; ///< K, Pa, from E and nu
+    double bulk_modulus() const;               ///< K, Pa, from E and nu
     bool breakable() const { return fracture_energy > 0; }
 };
 
@@ -53,17 +53,17 @@ struct RefMesh {
 struct Bodies {
     std::vector<offset_t> node_offsets{0}; ///< CSR: nodes of body b are [off[b], off[b+1])
     std::vector<std::int32_t> material;
-    std::vector<std::int32_t> group;       ///< contact group (row/column of the contact table)
-    std::vector<std::int32_t> ref_mesh;    ///< index into Model::ref_meshes
+    std::vector<std::int32_t> group;    ///< contact group (row/column of the contact table)
+    std::vector<std::int32_t> ref_mesh; ///< index into Model::ref_meshes
     std::vector<BodyKind> kind;
-    std::vector<std::uint8_t> fixed;       ///< 1 = not integrated (obstacle)
-    std::vector<double> center;            ///< 3 per body, m (placement centre)
-    std::vector<double> bounding_radius;   ///< m
-    std::vector<double> orientation;       ///< rad about z
-    std::vector<double> scale;             ///< 1
-    std::vector<double> initial_velocity;  ///< 3 per body, m s-1
-    std::vector<double> mesh_size;         ///< h: min node spacing, m (spec 2.2)
-    std::vector<double> horizon;           ///< delta, m
+    std::vector<std::uint8_t> fixed;      ///< 1 = not integrated (obstacle)
+    std::vector<double> center;           ///< 3 per body, m (placement centre)
+    std::vector<double> bounding_radius;  ///< m
+    std::vector<double> orientation;      ///< rad about z
+    std::vector<double> scale;            ///< 1
+    std::vector<double> initial_velocity; ///< 3 per body, m s-1
+    std::vector<double> mesh_size;        ///< h: min node spacing, m (spec 2.2)
+    std::vector<double> horizon;          ///< delta, m
     std::size_t num() const { return node_offsets.size() - 1; }
     offset_t begin(std::size_t b) const { return node_offsets[b]; }
     offset_t end(std::size_t b) const { return node_offsets[b + 1]; }
@@ -71,9 +71,9 @@ struct Bodies {
 
 /// Nodes: structure of arrays; 3-vectors interleaved (x, y, z per node).
 struct Nodes {
-    std::vector<double> x0;          ///< reference position, 3 per node, m
-    std::vector<double> volume;      ///< m3 (2D: area x unit thickness)
-    std::vector<std::int32_t> body;  ///< owning body
+    std::vector<double> x0;            ///< reference position, 3 per node, m
+    std::vector<double> volume;        ///< m3 (2D: area x unit thickness)
+    std::vector<std::int32_t> body;    ///< owning body
     std::vector<std::uint8_t> surface; ///< 1 = may touch another body (near the boundary)
     std::size_t num() const { return volume.size(); }
 };
@@ -107,24 +107,24 @@ enum class WallShape : std::uint8_t {
 struct Wall {
     std::string name;
     WallShape shape = WallShape::plane;
-    std::int32_t group = 0;                  ///< contact group (row of the contact table)
-    std::array<double, 3> point{0, 0, 0};    ///< m, at t = 0
-    std::array<double, 3> normal{0, 1, 0};   ///< unit, plane only
-    double radius = 0;                       ///< m, circles only
-    std::array<double, 3> velocity{0, 0, 0}; ///< m s-1, translation
+    std::int32_t group = 0;                          ///< contact group (row of the contact table)
+    std::array<double, 3> point{0, 0, 0};            ///< m, at t = 0
+    std::array<double, 3> normal{0, 1, 0};           ///< unit, plane only
+    double radius = 0;                               ///< m, circles only
+    std::array<double, 3> velocity{0, 0, 0};         ///< m s-1, translation
     std::array<double, 3> angular_velocity{0, 0, 0}; ///< rad s-1 (2D: z only)
-    std::array<double, 3> centre{0, 0, 0};   ///< m, rotation centre at t = 0
+    std::array<double, 3> centre{0, 0, 0};           ///< m, rotation centre at t = 0
 };
 
 /// Time function T(t) of a boundary condition (spec 5.6-5.7; pdgrain takes the consistent
 /// derivative for `quadratic`). value = amplitude * T(t) * S(X).
 enum class TimeFn : std::uint8_t {
-    constant = 0,  ///< T = 1 (displacement: u = a, v = 0)
-    linear = 1,    ///< T = t
-    quadratic = 2, ///< T = t + p1 t^2
-    sine = 3,      ///< T = sin(pi p1 t)
-    rotation = 4,  ///< rigid in-plane rotation by amplitude * t (rad) about `centre` (spec 5.6)
-    linear_step = 5,      ///< force only: staircase L(t; p1, p2) of spec 5.7
+    constant = 0,    ///< T = 1 (displacement: u = a, v = 0)
+    linear = 1,      ///< T = t
+    quadratic = 2,   ///< T = t + p1 t^2
+    sine = 3,        ///< T = sin(pi p1 t)
+    rotation = 4,    ///< rigid in-plane rotation by amplitude * t (rad) about `centre` (spec 5.6)
+    linear_step = 5, ///< force only: staircase L(t; p1, p2) of spec 5.7
     linear_slow_fast = 6, ///< force only: p2 t for t <= p1, p3 t after (spec 5.7)
 };
 
@@ -142,14 +142,14 @@ enum class SpaceFn : std::uint8_t {
 /// box region of the reference configuration.
 struct NodeCondition {
     std::string name;
-    bool is_force = false;          ///< false: prescribed displacement; true: body force density
-    std::uint8_t dofs = 0;          ///< bit d set = component d (x=1, y=2, z=4)
-    std::vector<index_t> nodes;     ///< selected nodes (sorted)
-    double amplitude = 0;           ///< m (displacement) or N m-3 (force density)
+    bool is_force = false;      ///< false: prescribed displacement; true: body force density
+    std::uint8_t dofs = 0;      ///< bit d set = component d (x=1, y=2, z=4)
+    std::vector<index_t> nodes; ///< selected nodes (sorted)
+    double amplitude = 0;       ///< m (displacement) or N m-3 (force density)
     TimeFn time_fn = TimeFn::constant;
     SpaceFn space_fn = SpaceFn::constant;
     std::array<double, 4> params{0, 0, 0, 0}; ///< p0 (space), p1, p2, p3 (time)
-    std::array<double, 3> centre{0, 0, 0}; ///< rotation centre, m (time_fn rotation)
+    std::array<double, 3> centre{0, 0, 0};    ///< rotation centre, m (time_fn rotation)
 };
 
 struct Loading {
@@ -177,7 +177,7 @@ struct SolverSettings {
     double checkpoint_interval = 0; ///< s between checkpoints; 0 = at the end only
     std::int64_t observe_every = 1; ///< steps between observable rows
     Integrator integrator = Integrator::velocity_verlet;
-    double contact_skin = 0;        ///< m; 0 = automatic (the largest contact radius)
+    double contact_skin = 0;         ///< m; 0 = automatic (the largest contact radius)
     bool surface_correction = false; ///< PMB isotropic surface correction (opt-in, see solver)
     /// Nodal fields written in frames besides position (only these are computed at frames).
     std::vector<std::string> fields{"velocity", "displacement", "force", "damage", "damage_z"};

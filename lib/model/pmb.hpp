@@ -34,6 +34,8 @@ inline double partial_volume(double r, double delta, double h) {
 }
 
 /// Scalar PMB bond force per unit volume squared: c * s (force density = this * beta * V_j).
-inline double pmb_bond_force(double c, double stretch) { return c * stretch; }
+inline double pmb_bond_force(double c, double stretch) {
+    return c * stretch;
+}
 
 } // namespace pd::model

@@ -15,9 +15,9 @@
 namespace pd::model {
 
 struct RnpConstants {
-    double C = 0;     ///< J m-1 (2D per unit thickness)
-    double beta = 0;  ///< m-1
-    double rbar = 0;  ///< sqrt(0.5 / beta), m^(1/2)
+    double C = 0;          ///< J m-1 (2D per unit thickness)
+    double beta = 0;       ///< m-1
+    double rbar = 0;       ///< sqrt(0.5 / beta), m^(1/2)
     double inv_factor = 0; ///< delta^(d+1) omega_d
 };
 

@@ -79,8 +79,7 @@ void pack(const PackOptions& opt, Context& ctx) {
         throw;
     }
     ctx.log.info("wrote {}: {} bodies, {} walls, {} nodes, {} bonds, {} materials", opt.output,
-                 m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(),
-                 m.materials.size());
+                 m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), m.materials.size());
     if (!opt.preview.empty()) {
         const auto cmd = fmt::format("/usr/bin/python3 {} {} -o {}", quote(preview_script()),
                                      quote(opt.output), quote(opt.preview));

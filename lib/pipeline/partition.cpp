@@ -17,20 +17,19 @@ void partition(const PartitionOptions& opt, Context& ctx) {
     const model::Model m = store::read_model(*f); // refuses a file it cannot read, untouched
     ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
     if (opt.num_parts < 1)
-        throw InputError(fmt::format("-n {}: the number of parts must be at least 1",
-                                     opt.num_parts));
+        throw InputError(
+            fmt::format("-n {}: the number of parts must be at least 1", opt.num_parts));
     if (opt.by != "auto" && opt.by != "body" && opt.by != "node")
         throw InputError(fmt::format("--by {}: expected body, node or auto", opt.by));
     // auto: whole grains per part when there are enough of them (at least 4 per part), else
     // nodes (a plate, a few large grains).
-    const std::string by = opt.by != "auto" ? opt.by
-                           : m.bodies.num() >= 4 * static_cast<std::size_t>(opt.num_parts)
-                               ? "body"
-                               : "node";
+    const std::string by = opt.by != "auto"                                                ? opt.by
+                           : m.bodies.num() >= 4 * static_cast<std::size_t>(opt.num_parts) ? "body"
+                                                                                           : "node";
     const std::size_t work = by == "body" ? m.bodies.num() : m.nodes.num();
     if (static_cast<std::size_t>(opt.num_parts) > work)
-        throw InputError(fmt::format("-n {}: more parts than the {} {} of {}", opt.num_parts,
-                                     work, by == "body" ? "grains" : "nodes", opt.file));
+        throw InputError(fmt::format("-n {}: more parts than the {} {} of {}", opt.num_parts, work,
+                                     by == "body" ? "grains" : "nodes", opt.file));
     partition::Graph g;
     if (by == "body") {
         double reach = 0;

@@ -7,7 +7,6 @@
 #include "mesh/shape_mesher.hpp"
 
 #include <nlohmann/json.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +18,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <yaml-cpp/yaml.h>
 
 namespace pd::pipeline {
 
@@ -28,7 +28,9 @@ using json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 constexpr double pi = std::numbers::pi;
 
-std::string dot(const std::string& a, const std::string& b) { return a.empty() ? b : a + "." + b; }
+std::string dot(const std::string& a, const std::string& b) {
+    return a.empty() ? b : a + "." + b;
+}
 
 /// The deck, with the key path of every value for messages.
 struct Deck {
@@ -104,8 +106,7 @@ std::vector<double> nums(const YAML::Node& parent, const std::string& where,
     return v;
 }
 
-std::vector<long> ints(const YAML::Node& parent, const std::string& where,
-                       const std::string& key) {
+std::vector<long> ints(const YAML::Node& parent, const std::string& where, const std::string& key) {
     std::vector<long> v;
     for (double d : nums(parent, where, key)) {
         if (d != std::floor(d))
@@ -272,8 +273,8 @@ std::optional<ZoneShape> mesh_outline(const model::RefMesh& m) {
         for (std::size_t k = 0; k < n; ++k) {
             auto a = X(loop[(k + n - 1) % n]), b = X(loop[k]), c = X(loop[(k + 1) % n]);
             const double cr = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-            const double l = std::hypot(b[0] - a[0], b[1] - a[1]) * std::hypot(c[0] - b[0],
-                                                                                 c[1] - b[1]);
+            const double l =
+                std::hypot(b[0] - a[0], b[1] - a[1]) * std::hypot(c[0] - b[0], c[1] - b[1]);
             if (std::abs(cr) > 1e-9 * l)
                 poly.push_back({b[0], b[1]});
         }
@@ -290,8 +291,8 @@ std::optional<ZoneShape> mesh_outline(const model::RefMesh& m) {
     }
     if (loops.empty())
         return std::nullopt;
-    const auto outer = static_cast<std::size_t>(
-        std::max_element(areas.begin(), areas.end()) - areas.begin());
+    const auto outer =
+        static_cast<std::size_t>(std::max_element(areas.begin(), areas.end()) - areas.begin());
     auto polygon = [](const std::vector<geometry::Vec2>& v) {
         json j{{"type", "polygon"}, {"vertices", json::array()}};
         for (const auto& p : v)
@@ -377,12 +378,12 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
     }
     const YAML::Node& R = d.root;
     if (!R.IsMap())
-        throw InputError(fmt::format("{}: not a PeriDEM deck (expected blocks Model, Zone, ...)",
-                                     yaml_path));
+        throw InputError(
+            fmt::format("{}: not a PeriDEM deck (expected blocks Model, Zone, ...)", yaml_path));
     static const std::set<std::string> known = {
-        "Model", "Container", "Zone", "Particle", "Wall", "Particle_Generation", "Mesh",
-        "Material", "Contact", "Neighbor", "Force_BC", "Displacement_BC", "IC", "Output",
-        "Restart", "Policy", "HPX"};
+        "Model", "Container", "Zone",    "Particle", "Wall",     "Particle_Generation",
+        "Mesh",  "Material",  "Contact", "Neighbor", "Force_BC", "Displacement_BC",
+        "IC",    "Output",    "Restart", "Policy",   "HPX"};
     for (auto it = R.begin(); it != R.end(); ++it) {
         const auto k = it->first.as<std::string>();
         if (!known.count(k))
@@ -412,8 +413,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
         throw ConfigError("Model.Time_Steps", "must be >= 1 (required)");
     const double dt = final_time / steps;
     const YAML::Node disc = child(model, "Discretization_Type");
-    const auto time_scheme = str_or(disc, "Model.Discretization_Type", "Time",
-                                    "central_difference");
+    const auto time_scheme =
+        str_or(disc, "Model.Discretization_Type", "Time", "central_difference");
     if (time_scheme != "central_difference" && time_scheme != "velocity_verlet")
         throw ConfigError("Model.Discretization_Type.Time",
                           "'" + time_scheme + "': expected central_difference or velocity_verlet");
@@ -421,9 +422,9 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
     if (spatial != "finite_difference")
         throw ConfigError("Model.Discretization_Type.Spatial",
                           "'" + spatial + "': only finite_difference is imported");
-    const bool single = str_or(model, "Model", "Particle_Sim_Type",
-                               R["Particle"] ? "Multi_Particle" : "Single_Particle") ==
-                        "Single_Particle";
+    const bool single =
+        str_or(model, "Model", "Particle_Sim_Type",
+               R["Particle"] ? "Multi_Particle" : "Single_Particle") == "Single_Particle";
     const auto seed = static_cast<std::uint32_t>(num_or(model, "Model", "Seed", 1));
     if (steps < 10)
         log.warn("Model.Time_Steps = {} gives dt = {:.4g} s: far above any stable step; set "
@@ -468,8 +469,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             z.type = str_or(pz, w, "Type", "");
             z.params = nums(pz, w, "Parameters");
             z.constrained = flag_or(pz, w, "All_Dofs_Constrained", false);
-            z.from_geom = single ||
-                          flag_or(pz, w, "Create_Particle_Using_ParticleZone_GeomObject", false);
+            z.from_geom =
+                single || flag_or(pz, w, "Create_Particle_Using_ParticleZone_GeomObject", false);
             const YAML::Node rp = child(child(R["Mesh"], zk), "Reference_Particle");
             if (rp) {
                 z.type = str_or(rp, "Mesh." + zk + ".Reference_Particle", "Type", z.type);
@@ -509,8 +510,9 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
         else
             throw ConfigError(w + ".Type", type.empty()
                                                ? "missing (required): PDState, PMBBond or RNPBond"
-                                               : "'" + type + "' cannot be imported (PDState, "
-                                                              "PMBBond or RNPBond)");
+                                               : "'" + type +
+                                                     "' cannot be imported (PDState, "
+                                                     "PMBBond or RNPBond)");
         const double rho = num_or(mn, w, "Density", 0);
         if (!(rho > 0))
             throw ConfigError(w + ".Density", "missing or not positive (required)");
@@ -561,12 +563,12 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             m["fracture_energy"] = Gc;
         else
             log.warn("{}: no Gc or KIc: the material is unbreakable", w);
-        const int inf = static_cast<int>(num_or(child(mn, "Influence_Function"),
-                                                w + ".Influence_Function", "Type", 0));
+        const int inf = static_cast<int>(
+            num_or(child(mn, "Influence_Function"), w + ".Influence_Function", "Type", 0));
         if (inf < 0 || inf > 2)
-            throw ConfigError(w + ".Influence_Function.Type",
-                              fmt::format("{}: expected 0 (constant), 1 (linear) or 2 (gaussian)",
-                                          inf));
+            throw ConfigError(
+                w + ".Influence_Function.Type",
+                fmt::format("{}: expected 0 (constant), 1 (linear) or 2 (gaussian)", inf));
         if (child(child(mn, "Influence_Function"), "Parameters"))
             log.warn("{}.Influence_Function.Parameters: ignored (pdgrain uses the normalised "
                      "default parameters; in the state-based law only the shape of J matters)",
@@ -590,9 +592,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
         const bool by_ratio = ratio[0] > 0;
         for (std::size_t k = 0; k < zones.size(); ++k) {
             const double v = by_ratio ? ratio[k] : horizon[k];
-            const std::string key =
-                fmt::format("Material.Zone_{}.{}", k + 1, by_ratio ? "Horizon_Mesh_Ratio"
-                                                                   : "Horizon");
+            const std::string key = fmt::format("Material.Zone_{}.{}", k + 1,
+                                                by_ratio ? "Horizon_Mesh_Ratio" : "Horizon");
             if (!(v > 0))
                 throw ConfigError(key, "missing or not positive (required)");
             if (std::abs(v - (by_ratio ? ratio[0] : horizon[0])) > 1e-12 * v)
@@ -619,12 +620,13 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             throw ConfigError(w, "missing: the zone's mesh (File or CreateMesh)");
         const std::string geo_key = (z.wall && old_format ? "Zone." : "Particle.") + zk;
         ZoneShape zs;
-        if (auto cm = child(mz, "CreateMesh"); cm && flag_or(cm, w + ".CreateMesh", "Flag", false)) {
+        if (auto cm = child(mz, "CreateMesh");
+            cm && flag_or(cm, w + ".CreateMesh", "Flag", false)) {
             const auto info = str_or(cm, w + ".CreateMesh", "Info", "uniform");
             if (info != "uniform")
                 throw ConfigError(w + ".CreateMesh.Info", "'" + info + "': only uniform");
-            const double h = num_or(mz, w, "Mesh_Size", num_or(cm, w + ".CreateMesh", "Mesh_Size",
-                                                               0));
+            const double h =
+                num_or(mz, w, "Mesh_Size", num_or(cm, w + ".CreateMesh", "Mesh_Size", 0));
             if (!(h > 0))
                 throw ConfigError(w + ".Mesh_Size", "missing or not positive");
             auto s = deck_shape(z.type, z.params, geo_key + ".Type");
@@ -728,13 +730,13 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             }
             const std::size_t need = with_orient ? 6 : 5;
             if (v.size() < need)
-                throw ConfigError(csv_key, fmt::format("{} line {}: expected {} columns (zone, x, "
-                                                       "y, z, r{}), found {}",
-                                                       file, ln, need, with_orient ? ", o" : "",
-                                                       v.size()));
+                throw ConfigError(csv_key,
+                                  fmt::format("{} line {}: expected {} columns (zone, x, "
+                                              "y, z, r{}), found {}",
+                                              file, ln, need, with_orient ? ", o" : "", v.size()));
             if (!(v[4] > 0))
-                throw ConfigError(csv_key, fmt::format("{} line {}: radius {} must be positive",
-                                                       file, ln, v[4]));
+                throw ConfigError(
+                    csv_key, fmt::format("{} line {}: radius {} must be positive", file, ln, v[4]));
             if (v[0] < 0 || v[0] >= nz || v[0] != std::floor(v[0]))
                 throw ConfigError(csv_key, fmt::format("{} line {}: zone {} is not in [0, {})",
                                                        file, ln, v[0], nz));
@@ -765,8 +767,9 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             p.zone = z.k;
             p.x = {row[1], row[2], dim == 3 ? row[3] : 0.0};
             p.r = row[4];
-            p.o = with_orient ? row[5] : two_particle ? static_cast<double>(parts.size()) * pi
-                                                      : angle(rng);
+            p.o = with_orient    ? row[5]
+                  : two_particle ? static_cast<double>(parts.size()) * pi
+                                 : angle(rng);
             z.particles.push_back(parts.size());
             parts.push_back(p);
         }
@@ -854,8 +857,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             std::set<long> dofs;
             for (long dof : ints(s, w, "Direction")) {
                 if (dof < 1 || dof > dim)
-                    throw ConfigError(w + ".Direction", fmt::format("{} is not a dof in [1, {}]",
-                                                                    dof, dim));
+                    throw ConfigError(w + ".Direction",
+                                      fmt::format("{} is not a dof in [1, {}]", dof, dim));
                 dofs.insert(dof);
                 c["components"].push_back(comp[static_cast<std::size_t>(dof - 1)]);
             }
@@ -884,10 +887,11 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             } else
                 throw ConfigError(w + ".Time_Function.Type",
                                   fmt::format("'{}' cannot be expressed in a pdgrain scene ({})",
-                                              tt, force ? "constant, linear, sin"
-                                                        : "constant, linear, quadratic, sin; a "
-                                                          "rotating wall is a rigid wall with "
-                                                          "angular_velocity"));
+                                              tt,
+                                              force ? "constant, linear, sin"
+                                                    : "constant, linear, quadratic, sin; a "
+                                                      "rotating wall is a rigid wall with "
+                                                      "angular_velocity"));
             const YAML::Node sf = child(s, "Spatial_Function");
             const auto st = str_or(sf, w + ".Spatial_Function", "Type", "constant");
             const auto sp = nums(sf, w + ".Spatial_Function", "Parameters");
@@ -941,13 +945,13 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
         if (v.size() < static_cast<std::size_t>(dim))
             throw ConfigError("IC.Constant_Velocity.Velocity_Vector",
                               fmt::format("expected {} components", dim));
-        std::vector<long> ids = single ? std::vector<long>{0}
-                                       : ints(cv, "IC.Constant_Velocity", "Particle_List");
+        std::vector<long> ids =
+            single ? std::vector<long>{0} : ints(cv, "IC.Constant_Velocity", "Particle_List");
         for (long id : ids) {
             if (id < 0 || static_cast<std::size_t>(id) >= parts.size())
-                throw ConfigError("IC.Constant_Velocity.Particle_List",
-                                  fmt::format("{} is not a particle id in [0, {})", id,
-                                              parts.size()));
+                throw ConfigError(
+                    "IC.Constant_Velocity.Particle_List",
+                    fmt::format("{} is not a particle id in [0, {})", id, parts.size()));
             parts[static_cast<std::size_t>(id)].v = {v[0], v[1], dim == 3 ? v[2] : 0.0};
         }
     }
@@ -1019,9 +1023,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
                     }
                 } else
                     law["restitution"] = 1.0;
-                law["friction"] = flag_or(n, w, "Friction_On", true)
-                                      ? num_or(n, w, "Friction_Coeff", 0)
-                                      : 0.0;
+                law["friction"] =
+                    flag_or(n, w, "Friction_On", true) ? num_or(n, w, "Friction_Coeff", 0) : 0.0;
                 table[ij] = law;
             }
         }
@@ -1055,8 +1058,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
     // ---- Output, solver
     json solver{{"final_time", final_time},
                 {"dt", dt},
-                {"integrator", time_scheme == "central_difference" ? "symplectic_euler"
-                                                                   : "velocity_verlet"},
+                {"integrator",
+                 time_scheme == "central_difference" ? "symplectic_euler" : "velocity_verlet"},
                 {"surface_correction", false}};
     if (auto out = R["Output"]) {
         const double every = num_or(out, "Output", "Output_Interval", 0);
@@ -1067,11 +1070,11 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             std::set<std::string> have;
             for (const auto& t : tags) {
                 const auto s = t.as<std::string>();
-                std::string f = s == "Velocity"                      ? "velocity"
-                                : s == "Displacement"                ? "displacement"
-                                : s == "Force"                       ? "force"
+                std::string f = s == "Velocity"                    ? "velocity"
+                                : s == "Displacement"              ? "displacement"
+                                : s == "Force"                     ? "force"
                                 : s == "Damage" || s == "Damage_Z" ? "damage"
-                                                                     : "";
+                                                                   : "";
                 if (!f.empty() && have.insert(f).second)
                     fields.push_back(f);
             }

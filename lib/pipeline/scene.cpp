@@ -2,9 +2,9 @@
 #include "pipeline/scene.hpp"
 
 #include "core/errors.hpp"
-#include "mesh/discretize.hpp"
 #include "geometry/packing.hpp"
 #include "geometry/shapes.hpp"
+#include "mesh/discretize.hpp"
 #include "mesh/gmsh_mesher.hpp"
 #include "mesh/shape_mesher.hpp"
 #include "model/pmb.hpp"
@@ -29,8 +29,8 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
     for (std::size_t i = 1; i <= a.size(); ++i) {
         cur[0] = i;
         for (std::size_t j = 1; j <= b.size(); ++j)
-            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1,
-                               prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            cur[j] = std::min(
+                {prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
         std::swap(prev, cur);
     }
     return prev[b.size()];
@@ -55,14 +55,15 @@ void check_keys(const json& o, const std::string& where, const std::vector<std::
             }
         }
         const std::string key = where.empty() ? it.key() : where + "." + it.key();
-        throw ConfigError(key, bd <= std::max<std::size_t>(2, best.size() / 3)
-                                   ? "unknown key; did you mean '" + best + "'?"
-                                   : "unknown key; valid keys here: " + [&] {
-                                         std::string s;
-                                         for (const auto& k : allowed)
-                                             s += (s.empty() ? "" : ", ") + k;
-                                         return s;
-                                     }());
+        throw ConfigError(
+            key, bd <= std::max<std::size_t>(2, best.size() / 3)
+                     ? "unknown key; did you mean '" + best + "'?"
+                     : "unknown key; valid keys here: " + [&] {
+                           std::string s;
+                           for (const auto& k : allowed)
+                               s += (s.empty() ? "" : ", ") + k;
+                           return s;
+                       }());
     }
 }
 
@@ -103,9 +104,8 @@ std::array<double, 3> vec(const json& o, const std::string& where, const std::st
     }
     const auto& v = o.at(key);
     if (!v.is_array() || (v.size() != static_cast<std::size_t>(dimension) && v.size() != 3))
-        throw ConfigError(join(where, key),
-                          fmt::format("expected an array of {} numbers, found {}", dimension,
-                                      v.dump()));
+        throw ConfigError(join(where, key), fmt::format("expected an array of {} numbers, found {}",
+                                                        dimension, v.dump()));
     std::array<double, 3> r{0, 0, 0};
     for (std::size_t k = 0; k < v.size(); ++k) {
         if (!v[k].is_number() || !std::isfinite(v[k].get<double>()))
@@ -169,15 +169,15 @@ std::string resolve(const std::string& base, const std::string& file) {
 }
 
 const std::vector<std::string> shape_keys = {
-    "type", "radius", "semi_axes", "sides", "phase", "size", "corners", "neck_width",
-    "vertices", "parts", "base", "minus", "length", "offset", "rotation", "centered"};
+    "type",     "radius", "semi_axes", "sides", "phase",  "size",   "corners",  "neck_width",
+    "vertices", "parts",  "base",      "minus", "length", "offset", "rotation", "centered"};
 
 geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
     check_keys(o, w, shape_keys);
-    const auto type = text(o, w, "type", "",
-                           {"circle", "ellipse", "triangle", "square", "hexagon",
-                            "regular_polygon", "rectangle", "drum2d", "polygon", "union",
-                            "difference", "sphere", "box", "cylinder"});
+    const auto type =
+        text(o, w, "type", "",
+             {"circle", "ellipse", "triangle", "square", "hexagon", "regular_polygon", "rectangle",
+              "drum2d", "polygon", "union", "difference", "sphere", "box", "cylinder"});
     if (type.empty())
         throw ConfigError(w + ".type", "missing: the kind of shape");
     auto pair = [&](const char* key) {
@@ -216,10 +216,9 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
                 const auto& c = o["corners"];
                 if (!c.is_array() || c.size() != 2)
                     throw ConfigError(w + ".corners", "expected [[x0, y0], [x1, y1]]");
-                return geometry::Shape::rectangle_corners(c[0][0].get<double>(),
-                                                          c[0][1].get<double>(),
-                                                          c[1][0].get<double>(),
-                                                          c[1][1].get<double>());
+                return geometry::Shape::rectangle_corners(
+                    c[0][0].get<double>(), c[0][1].get<double>(), c[1][0].get<double>(),
+                    c[1][1].get<double>());
             }
             auto a = pair("size");
             return geometry::Shape::rectangle(a[0], a[1]);
@@ -264,13 +263,12 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
     if (boolean(o, w, "centered", false))
         sh = sh.centered();
     if (sh.dimension() != dim)
-        throw ConfigError(w + ".type", fmt::format("a {}D shape in a {}D scene", sh.dimension(),
-                                                   dim));
+        throw ConfigError(w + ".type",
+                          fmt::format("a {}D shape in a {}D scene", sh.dimension(), dim));
     return sh;
 }
 
-ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim,
-                           const std::string& base) {
+ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim, const std::string& base) {
     auto keys = shape_keys;
     keys.insert(keys.end(), {"mesh", "file", "quads", "mesh_size"});
     check_keys(o, w, keys);
@@ -365,8 +363,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     } catch (const json::parse_error& e) {
         throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
     }
-    check_keys(root, "", {"title", "dimension", "planar", "materials", "discretization", "shapes",
-                          "particles", "walls", "cracks", "contact", "loading", "solver"});
+    check_keys(root, "",
+               {"title", "dimension", "planar", "materials", "discretization", "shapes",
+                "particles", "walls", "cracks", "contact", "loading", "solver"});
     model::Model m;
     m.scene_json = root.dump(2);
     m.title = text(root, "", "title", source);
@@ -374,10 +373,10 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     if (m.dimension != 2 && m.dimension != 3)
         throw ConfigError("dimension", fmt::format("{}: expected 2 or 3", m.dimension));
     const std::string base_dir = std::filesystem::path(source).parent_path().string();
-    m.planar = text(root, "", "planar", "plane_stress", {"plane_stress", "plane_strain"}) ==
-                       "plane_strain"
-                   ? model::Planar::plane_strain
-                   : model::Planar::plane_stress;
+    m.planar =
+        text(root, "", "planar", "plane_stress", {"plane_stress", "plane_strain"}) == "plane_strain"
+            ? model::Planar::plane_strain
+            : model::Planar::plane_stress;
 
     // Materials.
     if (!root.contains("materials") || !root["materials"].is_object() || root["materials"].empty())
@@ -385,21 +384,19 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     std::map<std::string, std::int32_t> material_index;
     for (auto it = root["materials"].begin(); it != root["materials"].end(); ++it) {
         const std::string w = "materials." + it.key();
-        check_keys(*it, w, {"law", "density", "youngs_modulus", "bulk_modulus", "shear_modulus",
-                            "poisson_ratio", "fracture_energy", "fracture_toughness",
-                            "influence"});
+        check_keys(*it, w,
+                   {"law", "density", "youngs_modulus", "bulk_modulus", "shear_modulus",
+                    "poisson_ratio", "fracture_energy", "fracture_toughness", "influence"});
         model::Material mat;
         mat.name = it.key();
         for (char ch : mat.name)
             if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'))
                 throw ConfigError(w, "material names may hold letters, digits and '_' only");
         const auto law = text(*it, w, "law", "pmb", {"pmb", "lps", "rnp"});
-        mat.law = law == "lps"   ? model::Law::lps
-                  : law == "rnp" ? model::Law::rnp
-                                 : model::Law::pmb;
-        const auto inf = text(*it, w, "influence", mat.law == model::Law::pmb ? "constant"
-                                                                              : "linear",
-                              {"constant", "linear", "gaussian"});
+        mat.law = law == "lps" ? model::Law::lps : law == "rnp" ? model::Law::rnp : model::Law::pmb;
+        const auto inf =
+            text(*it, w, "influence", mat.law == model::Law::pmb ? "constant" : "linear",
+                 {"constant", "linear", "gaussian"});
         mat.influence = inf == "linear"     ? model::Influence::linear
                         : inf == "gaussian" ? model::Influence::gaussian
                                             : model::Influence::constant;
@@ -409,10 +406,10 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         mat.density = positive(*it, w, "density", 0, true);
         // Elastic constants: two of E, K, G, nu (spec 1.2-1.3); a bond-based law (pmb, rnp)
         // fixes nu, so E alone is enough there and a pair must agree with the law's nu.
-        const double nu_law = mat.law == model::Law::rnp   ? 0.25
-                              : mat.law == model::Law::pmb ? model::pmb_poisson_ratio(
-                                                                 m.dimension, m.planar)
-                                                           : -2.0;
+        const double nu_law = mat.law == model::Law::rnp ? 0.25
+                              : mat.law == model::Law::pmb
+                                  ? model::pmb_poisson_ratio(m.dimension, m.planar)
+                                  : -2.0;
         const bool hE = it->contains("youngs_modulus"), hK = it->contains("bulk_modulus"),
                    hG = it->contains("shear_modulus"), hn = it->contains("poisson_ratio");
         const int given = hE + hK + hG + hn;
@@ -446,24 +443,22 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                                              "{:.4g}: not a stable isotropic solid",
                                              E, nu));
         if (nu_law > -2 && std::abs(nu - nu_law) > 1e-6)
-            throw ConfigError(w, fmt::format("the {} law fixes nu = {:.4g} ({}), the constants "
-                                             "given imply nu = {:.4g}",
-                                             mat.law == model::Law::rnp ? "RNP" : "bond-based PMB",
-                                             nu_law,
-                                             mat.law == model::Law::rnp ? "spec 1.4"
-                                             : m.planar == model::Planar::plane_stress
-                                                 ? "2D plane stress"
-                                                 : "plane strain / 3D",
-                                             nu));
+            throw ConfigError(
+                w, fmt::format("the {} law fixes nu = {:.4g} ({}), the constants "
+                               "given imply nu = {:.4g}",
+                               mat.law == model::Law::rnp ? "RNP" : "bond-based PMB", nu_law,
+                               mat.law == model::Law::rnp                ? "spec 1.4"
+                               : m.planar == model::Planar::plane_stress ? "2D plane stress"
+                                                                         : "plane strain / 3D",
+                               nu));
         mat.youngs_modulus = E;
         mat.poisson_ratio = nu_law > -2 ? nu_law : nu;
         // Fracture: Gc, or KIc with Gc = KIc^2 / E (spec 1.2).
         if (it->contains("fracture_energy") && it->contains("fracture_toughness"))
             throw ConfigError(w, "give fracture_energy or fracture_toughness, not both");
-        mat.fracture_energy =
-            it->contains("fracture_toughness")
-                ? std::pow(positive(*it, w, "fracture_toughness", 0), 2) / E
-                : number(*it, w, "fracture_energy", 0);
+        mat.fracture_energy = it->contains("fracture_toughness")
+                                  ? std::pow(positive(*it, w, "fracture_toughness", 0), 2) / E
+                                  : number(*it, w, "fracture_energy", 0);
         if (mat.fracture_energy < 0)
             throw ConfigError(w + ".fracture_energy", "must be >= 0 (0 = unbreakable)");
         if (mat.law == model::Law::rnp && !(mat.fracture_energy > 0))
@@ -495,8 +490,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         if (!root["shapes"].is_object())
             throw ConfigError("shapes", "expected an object of named shapes");
         for (auto it = root["shapes"].begin(); it != root["shapes"].end(); ++it)
-            shapes.emplace(it.key(), parse_shape_spec(*it, "shapes." + it.key(), m.dimension,
-                                                      base_dir));
+            shapes.emplace(it.key(),
+                           parse_shape_spec(*it, "shapes." + it.key(), m.dimension, base_dir));
     }
 
     // Particles: explicit entries and generators (random_pack, lattice, csv).
@@ -522,7 +517,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         if (name == "disc" && !shapes.count("disc")) {
             if (!(radius > 0))
                 throw ConfigError(w + ".radius", "a disc needs a positive radius");
-            shapes.emplace("disc", ShapeSpec{geometry::Shape::circle(radius), "gmsh", "", false, 0});
+            shapes.emplace("disc",
+                           ShapeSpec{geometry::Shape::circle(radius), "gmsh", "", false, 0});
         }
         if (!shapes.count(name))
             throw ConfigError(w + ".shape", "no shape named '" + name + "' in shapes");
@@ -555,8 +551,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         if (!p.is_object())
             throw ConfigError(w, "expected an object");
         if (!p.contains("generate")) {
-            check_keys(p, w, {"shape", "radius", "center", "material", "velocity", "fixed",
-                              "group", "orientation"});
+            check_keys(p, w,
+                       {"shape", "radius", "center", "material", "velocity", "fixed", "group",
+                        "orientation"});
             Instance d;
             d.shape = text(p, w, "shape", "disc");
             d.radius = p.contains("radius") ? positive(p, w, "radius", 0) : 0.0;
@@ -572,8 +569,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         std::vector<geometry::Grain> grains;
         std::vector<std::string> names;
         if (type == "random_pack") {
-            check_keys(p, w, {"generate", "container", "count", "radius", "shapes", "gap", "seed",
-                              "orientation", "material", "velocity", "fixed", "group"});
+            check_keys(p, w,
+                       {"generate", "container", "count", "radius", "shapes", "gap", "seed",
+                        "orientation", "material", "velocity", "fixed", "group"});
             if (!p.contains("container"))
                 throw ConfigError(w + ".container", "missing: the region to fill (a shape)");
             const auto container = parse_shape(p["container"], w + ".container", m.dimension);
@@ -588,16 +586,17 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             o.fractions = fractions_of(p, w, names);
             o.gap = number(p, w, "gap", 0);
             o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
-            o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) ==
-                                   "random";
+            o.random_orientation =
+                text(p, w, "orientation", "random", {"random", "zero"}) == "random";
             geometry::PackStats st;
             grains = geometry::random_pack(container, o, &st);
             log.info("{}: packed {} grains (packing fraction {:.3f}, {} by relaxation)", w,
                      grains.size(), st.packing_fraction, st.relaxed);
         } else if (type == "lattice") {
-            check_keys(p, w, {"generate", "origin", "counts", "spacing", "stagger", "jitter",
-                              "radius", "shapes", "gap", "seed", "orientation", "material",
-                              "velocity", "fixed", "group"});
+            check_keys(p, w,
+                       {"generate", "origin", "counts", "spacing", "stagger", "jitter", "radius",
+                        "shapes", "gap", "seed", "orientation", "material", "velocity", "fixed",
+                        "group"});
             geometry::LatticeOptions o;
             o.dimension = m.dimension;
             o.origin = vec(p, w, "origin", m.dimension, {0, 0, 0}, true);
@@ -606,8 +605,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 p["counts"].size() != static_cast<std::size_t>(m.dimension))
                 throw ConfigError(w + ".counts", "expected grain counts per axis");
             for (int d = 0; d < m.dimension; ++d)
-                o.counts[static_cast<std::size_t>(d)] = p["counts"][static_cast<std::size_t>(d)]
-                                                            .get<std::size_t>();
+                o.counts[static_cast<std::size_t>(d)] =
+                    p["counts"][static_cast<std::size_t>(d)].get<std::size_t>();
             if (!p.contains("radius") || !p["radius"].is_array() || p["radius"].size() != 2)
                 throw ConfigError(w + ".radius", "expected [rmin, rmax] (m)");
             o.rmin = p["radius"][0].get<double>();
@@ -616,13 +615,13 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             o.jitter = number(p, w, "jitter", 0);
             o.gap = number(p, w, "gap", 0);
             o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
-            o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) ==
-                                   "random";
+            o.random_orientation =
+                text(p, w, "orientation", "random", {"random", "zero"}) == "random";
             o.fractions = fractions_of(p, w, names);
             grains = geometry::lattice(o);
         } else {
-            check_keys(p, w, {"generate", "file", "shapes", "material", "velocity", "fixed",
-                              "group"});
+            check_keys(p, w,
+                       {"generate", "file", "shapes", "material", "velocity", "fixed", "group"});
             const auto file = text(p, w, "file", "");
             if (file.empty())
                 throw ConfigError(w + ".file", "missing: a CSV of x, y, z, r, orientation, shape");
@@ -682,9 +681,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         double vsum = 0;
         for (std::size_t i = 0; i < r.volume.size(); ++i) {
             if (!(r.volume[i] > 0))
-                throw ConfigError("shapes." + name,
-                                  fmt::format("mesh node {} has non-positive volume {}", i,
-                                              r.volume[i]));
+                throw ConfigError(
+                    "shapes." + name,
+                    fmt::format("mesh node {} has non-positive volume {}", i, r.volume[i]));
             vsum += r.volume[i];
         }
         const double exact = sp.shape.area_or_volume();
@@ -703,8 +702,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         const auto& d = inst[k];
         const auto& r = refs.at(d.shape);
         const auto& ref = m.ref_meshes[static_cast<std::size_t>(r.index)];
-        const double s = d.radius > 0 ? d.radius / shapes.at(d.shape).shape.bounding_radius()
-                                      : 1.0;
+        const double s = d.radius > 0 ? d.radius / shapes.at(d.shape).shape.bounding_radius() : 1.0;
         const std::size_t nref = ref.nodes.size() / 3;
         mesh::place_instance(ref, d.orientation, s, d.center, m.nodes.x0);
         const double sd = std::pow(s, m.dimension);
@@ -740,8 +738,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         for (double v : m.nodes.volume)
             vol += v;
         for (std::size_t b = 0; b < B.num(); ++b)
-            exact += shapes.at(inst[b].shape).shape.area_or_volume() *
-                     std::pow(B.scale[b], m.dimension);
+            exact +=
+                shapes.at(inst[b].shape).shape.area_or_volume() * std::pow(B.scale[b], m.dimension);
         log.info("{} particles: sum of nodal volumes {:.6e} m{} against {:.6e} m{} of the exact "
                  "shapes ({:+.3f}%)",
                  B.num(), vol, m.dimension, exact, m.dimension, 100.0 * (vol - exact) / exact);
@@ -756,12 +754,13 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         for (std::size_t k = 0; k < root["walls"].size(); ++k) {
             const json& wj = root["walls"][k];
             const std::string w = fmt::format("walls[{}]", k);
-            check_keys(wj, w, {"name", "type", "point", "normal", "center", "radius", "velocity",
-                               "angular_velocity", "rotation_center", "group"});
+            check_keys(wj, w,
+                       {"name", "type", "point", "normal", "center", "radius", "velocity",
+                        "angular_velocity", "rotation_center", "group"});
             model::Wall wall;
             wall.name = text(wj, w, "name", fmt::format("wall_{}", k));
-            const auto type = text(wj, w, "type", "plane", {"plane", "circle_inside",
-                                                             "circle_outside"});
+            const auto type =
+                text(wj, w, "type", "plane", {"plane", "circle_inside", "circle_outside"});
             wall.shape = type == "plane"           ? model::WallShape::plane
                          : type == "circle_inside" ? model::WallShape::circle_inside
                                                    : model::WallShape::circle_outside;
@@ -799,9 +798,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 const double d = wall_distance(wall, &m.nodes.x0[3 * i]);
                 if (d < 0)
                     throw ConfigError(
-                        fmt::format("{}, walls[{}]", inst[static_cast<std::size_t>(
-                                                               m.nodes.body[i])].where,
-                                    k),
+                        fmt::format("{}, walls[{}]",
+                                    inst[static_cast<std::size_t>(m.nodes.body[i])].where, k),
                         fmt::format("the grain crosses the wall (a node lies {:.4g} m behind it)",
                                     -d));
             }
@@ -812,7 +810,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     // per pair of groups under "pairs".
     const json empty = json::object();
     const json& c = root.contains("contact") ? root["contact"] : empty;
-    const std::vector<std::string> law_keys = {"radius_factor", "radius", "stiffness",
+    const std::vector<std::string> law_keys = {"radius_factor",    "radius",      "stiffness",
                                                "stiffness_factor", "restitution", "friction"};
     auto with = [](std::vector<std::string> v, std::initializer_list<std::string> more) {
         v.insert(v.end(), more);
@@ -827,7 +825,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         double k = 0;
         for (std::size_t b = 0; b < B.num(); ++b)
             if (B.group[b] == g)
-                k = std::max(k, m.materials[static_cast<std::size_t>(B.material[b])].bulk_modulus());
+                k = std::max(k,
+                             m.materials[static_cast<std::size_t>(B.material[b])].bulk_modulus());
         return k; // 0 for a group of rigid walls only
     };
     double delta_max = *std::max_element(B.horizon.begin(), B.horizon.end());
@@ -865,8 +864,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             if (kb == 0)
                 kb = ka;
             const double kappa = ka > 0 ? 2 * ka * kb / (ka + kb) : 0;
-            p.stiffness = 18.0 * kappa /
-                          (std::numbers::pi * std::pow(delta_max, m.dimension + 2)) *
+            p.stiffness = 18.0 * kappa / (std::numbers::pi * std::pow(delta_max, m.dimension + 2)) *
                           number(o, w, "stiffness_factor", 1.0);
         }
         return p;
@@ -944,13 +942,14 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         for (std::size_t k = 0; k < ld["conditions"].size(); ++k) {
             const json& cj = ld["conditions"][k];
             const std::string w = fmt::format("loading.conditions[{}]", k);
-            check_keys(cj, w, {"name", "kind", "particles", "region", "components", "value",
-                               "time_function", "time_parameter", "space_function",
-                               "space_parameter", "rotation_center", "time_parameters"});
+            check_keys(cj, w,
+                       {"name", "kind", "particles", "region", "components", "value",
+                        "time_function", "time_parameter", "space_function", "space_parameter",
+                        "rotation_center", "time_parameters"});
             model::NodeCondition c;
             c.name = text(cj, w, "name", fmt::format("condition_{}", k));
-            c.is_force = text(cj, w, "kind", "", {"displacement", "force_density"}) ==
-                         "force_density";
+            c.is_force =
+                text(cj, w, "kind", "", {"displacement", "force_density"}) == "force_density";
             if (!cj.contains("kind"))
                 throw ConfigError(w + ".kind", "missing: displacement or force_density");
             c.amplitude = number(cj, w, "value", 0, true);
@@ -967,7 +966,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             if ((c.time_fn == model::TimeFn::linear_step ||
                  c.time_fn == model::TimeFn::linear_slow_fast) &&
                 !c.is_force)
-                throw ConfigError(w + ".time_function", tf + " applies to force_density (spec 5.7)");
+                throw ConfigError(w + ".time_function",
+                                  tf + " applies to force_density (spec 5.7)");
             if (c.time_fn == model::TimeFn::rotation) {
                 // value = angular velocity (rad/s) about rotation_center, in the xy plane.
                 if (c.is_force)
@@ -984,8 +984,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                          : sf == "sine_x"   ? model::SpaceFn::sine_x
                          : sf == "hat_x"    ? model::SpaceFn::hat_x
                                             : model::SpaceFn::hat_y;
-            c.params = {number(cj, w, "space_parameter", 1.0),
-                        number(cj, w, "time_parameter", 0.0), 0.0, 0.0};
+            c.params = {number(cj, w, "space_parameter", 1.0), number(cj, w, "time_parameter", 0.0),
+                        0.0, 0.0};
             if (cj.contains("time_parameters")) {
                 const auto& tp = cj["time_parameters"];
                 if (!tp.is_array() || tp.empty() || tp.size() > 3 || cj.contains("time_parameter"))
@@ -1069,9 +1069,9 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     if (!root.contains("solver"))
         throw ConfigError("solver", "missing: give at least final_time");
     const json& sv = root["solver"];
-    check_keys(sv, "solver", {"final_time", "dt", "dt_safety", "output_interval", "observe_every",
-                              "integrator", "contact_skin", "checkpoint_interval",
-                              "surface_correction", "fields"});
+    check_keys(sv, "solver",
+               {"final_time", "dt", "dt_safety", "output_interval", "observe_every", "integrator",
+                "contact_skin", "checkpoint_interval", "surface_correction", "fields"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
     if (sv.contains("dt") && sv["dt"].is_string())
@@ -1095,9 +1095,10 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             const std::string n = x.is_string() ? x.get<std::string>() : "";
             if (n != "velocity" && n != "displacement" && n != "force" && n != "damage" &&
                 n != "damage_z")
-                throw ConfigError("solver.fields", "'" + x.dump() + "' is not one of velocity, "
-                                                   "displacement, force, damage, damage_z "
-                                                   "(position is always written)");
+                throw ConfigError("solver.fields", "'" + x.dump() +
+                                                       "' is not one of velocity, "
+                                                       "displacement, force, damage, damage_z "
+                                                       "(position is always written)");
             S.fields.push_back(n);
         }
     }

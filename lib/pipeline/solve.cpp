@@ -13,8 +13,8 @@
 
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <map>
+#include <optional>
 #include <span>
 
 namespace pd::pipeline {
@@ -48,9 +48,14 @@ void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<do
 }
 
 std::vector<double> observable_row(const solver::Observables& o) {
-    std::vector<double> r{o.kinetic_energy, o.elastic_energy, o.contact_energy, o.external_work,
+    std::vector<double> r{o.kinetic_energy,
+                          o.elastic_energy,
+                          o.contact_energy,
+                          o.external_work,
                           o.momentum[0],
-                          o.momentum[1],    o.momentum[2],    static_cast<double>(o.contact_count),
+                          o.momentum[1],
+                          o.momentum[2],
+                          static_cast<double>(o.contact_count),
                           static_cast<double>(o.broken_bonds)};
     r.insert(r.end(), o.wall_force.begin(), o.wall_force.end());
     r.insert(r.end(), o.wall_moment.begin(), o.wall_moment.end());
@@ -97,8 +102,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
         ctx.log.warn("{} (forced)", msg);
     }
     if (!std::isfinite(dt) || !(dt > 0))
-        throw InputError(fmt::format("{}: no finite time step: set /solver/dt in the scene",
-                                     opt.file));
+        throw InputError(
+            fmt::format("{}: no finite time step: set /solver/dt in the scene", opt.file));
     std::int64_t total = 0;
     if (ck) {
         // Same dt; as many steps as reach final_time.
@@ -138,8 +143,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         store::truncate_after(*f, ck->step);
         s.restore(ck->step, ck->time, ck->u, ck->v, ck->f, ck->alive, ck->broken_total);
         s.set_external_work(ck->external_work, ck->external_power);
-        ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s)", ck->step,
-                     ck->time);
+        ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s)", ck->step, ck->time);
         ck.reset();
     } else {
         // Fresh output: previous frames, observables and checkpoints are replaced.

@@ -11,11 +11,11 @@ namespace pd::pipeline {
 
 struct SolveOptions {
     std::string file;
-    bool force_dt = false;         ///< accept a scene dt above the stability estimate
-    bool restart = false;          ///< continue from the latest checkpoint in the file
-    double final_time = 0;         ///< > 0: overrides /solver/final_time (extend a run)
-    std::int64_t max_steps = -1;   ///< stop after this many steps (short runs, tests)
-    double progress_seconds = 10;  ///< wall time between progress lines
+    bool force_dt = false;        ///< accept a scene dt above the stability estimate
+    bool restart = false;         ///< continue from the latest checkpoint in the file
+    double final_time = 0;        ///< > 0: overrides /solver/final_time (extend a run)
+    std::int64_t max_steps = -1;  ///< stop after this many steps (short runs, tests)
+    double progress_seconds = 10; ///< wall time between progress lines
     CommonOptions common;
 };
 

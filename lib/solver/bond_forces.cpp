@@ -73,7 +73,6 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     return {energy, broken};
 }
 
-
 template <bool Breakable>
 BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
     const auto n = static_cast<std::int64_t>(s.n);

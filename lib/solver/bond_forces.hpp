@@ -8,7 +8,7 @@
 namespace pd::solver {
 
 struct BondResult {
-    double elastic_energy = 0; ///< J (2D: per unit thickness), of intact bonds
+    double elastic_energy = 0;     ///< J (2D: per unit thickness), of intact bonds
     std::int64_t newly_broken = 0; ///< bonds (each counted from both ends) broken this call
 };
 

@@ -11,7 +11,9 @@
 namespace pd::solver {
 
 ContactList::ContactList(const model::Model& m, double skin)
-    : skin_(skin), body_group_(m.bodies.group), body_offsets_(m.bodies.node_offsets) {
+    : skin_(skin)
+    , body_group_(m.bodies.group)
+    , body_offsets_(m.bodies.node_offsets) {
     for (auto g : body_group_)
         ngroups_ = std::max(ngroups_, g + 1);
     law_of_.assign(static_cast<std::size_t>(ngroups_ * ngroups_), -1);
@@ -26,8 +28,8 @@ ContactList::ContactList(const model::Model& m, double skin)
         any_friction_ = any_friction_ || p.friction > 0;
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
-    eligible_ = m.nodes.surface.empty() ? std::vector<std::uint8_t>(m.nodes.num(), 1)
-                                        : m.nodes.surface;
+    eligible_ =
+        m.nodes.surface.empty() ? std::vector<std::uint8_t>(m.nodes.num(), 1) : m.nodes.surface;
 }
 
 bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit) {
@@ -68,7 +70,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
             const auto ii = static_cast<std::size_t>(i);
             for (auto k = offsets_[ii]; k < offsets_[ii + 1]; ++k) {
                 const index_t j = neighbor_[static_cast<std::size_t>(k)];
-                const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
+                const auto& law =
+                    laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
                 const double d0 = s.x[3 * j] - xi[0], d1 = s.x[3 * j + 1] - xi[1],
                              d2 = s.x[3 * j + 2] - xi[2];
                 const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
@@ -87,9 +90,12 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                     if (normal && (law.restitution < 1 || law.friction > 0)) {
                         // force on j's body from i's body: +fn V_i along d/r
                         const double c = fn * s.vol[ii] / r;
-                        mine.push_back({s.body[ii], s.body[static_cast<std::size_t>(j)],
-                                        static_cast<index_t>(i), j,
-                                        {c * d0, c * d1, c * d2}, law.friction,
+                        mine.push_back({s.body[ii],
+                                        s.body[static_cast<std::size_t>(j)],
+                                        static_cast<index_t>(i),
+                                        j,
+                                        {c * d0, c * d1, c * d2},
+                                        law.friction,
                                         law.restitution < 1});
                     }
                 }
@@ -105,9 +111,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
     }
     energy = e;
     if (normal) {
-        std::sort(records.begin(), records.end(), [](const auto& p, const auto& q) {
-            return p.i != q.i ? p.i < q.i : p.j < q.j;
-        });
+        std::sort(records.begin(), records.end(),
+                  [](const auto& p, const auto& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });
         for (auto& r : records)
             if (r.a > r.b) { // normalise to a < b: force on the higher-numbered body
                 std::swap(r.a, r.b);
@@ -157,8 +162,8 @@ void ContactList::rebuild(const State& s) {
             for (int d = 1; d < 3; ++d)
                 overlap = overlap && lo[3 * b + d] <= hi[3 * a + d] + reach &&
                           lo[3 * a + d] <= hi[3 * b + d] + reach;
-            if (overlap && law_of_[static_cast<std::size_t>(body_group_[a] * ngroups_ +
-                                                            body_group_[b])] >= 0)
+            if (overlap &&
+                law_of_[static_cast<std::size_t>(body_group_[a] * ngroups_ + body_group_[b])] >= 0)
                 near[a] = near[b] = 1;
         }
     }

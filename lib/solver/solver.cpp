@@ -8,7 +8,6 @@
 #include "solver/bond_forces.hpp"
 
 #include <algorithm>
-
 #include <array>
 #include <cmath>
 #include <limits>
@@ -20,13 +19,20 @@ namespace {
 double time_value(model::TimeFn f, const std::array<double, 4>& p, double t, double* rate) {
     const double p1 = p[1], p2 = p[2], p3 = p[3];
     switch (f) {
-    case model::TimeFn::constant: *rate = 0; return 1;
-    case model::TimeFn::linear: *rate = 1; return t;
-    case model::TimeFn::quadratic: *rate = 1 + 2 * p1 * t; return t + p1 * t * t;
+    case model::TimeFn::constant:
+        *rate = 0;
+        return 1;
+    case model::TimeFn::linear:
+        *rate = 1;
+        return t;
+    case model::TimeFn::quadratic:
+        *rate = 1 + 2 * p1 * t;
+        return t + p1 * t * t;
     case model::TimeFn::sine:
         *rate = M_PI * p1 * std::cos(M_PI * p1 * t);
         return std::sin(M_PI * p1 * t);
-    case model::TimeFn::rotation: break; // handled by apply_displacements
+    case model::TimeFn::rotation:
+        break; // handled by apply_displacements
     case model::TimeFn::linear_step: {
         // Staircase (spec 5.7): ramps of duration p1 separated by plateaus of duration p2.
         const double P = p1 + p2;
@@ -52,12 +58,18 @@ double space_value(model::SpaceFn f, double p0, const double* X, const std::arra
         return L > 0 ? p0 * std::max(0.0, 1 - std::abs(2 * (x - 0.5 * (lo + hi)) / L)) : p0;
     };
     switch (f) {
-    case model::SpaceFn::constant: return 1;
-    case model::SpaceFn::linear_x: return p0 * X[0];
-    case model::SpaceFn::linear_y: return p0 * X[1];
-    case model::SpaceFn::sine_x: return std::sin(M_PI * p0 * X[0]);
-    case model::SpaceFn::hat_x: return hat(X[0], box[0], box[1]);
-    case model::SpaceFn::hat_y: return hat(X[1], box[2], box[3]);
+    case model::SpaceFn::constant:
+        return 1;
+    case model::SpaceFn::linear_x:
+        return p0 * X[0];
+    case model::SpaceFn::linear_y:
+        return p0 * X[1];
+    case model::SpaceFn::sine_x:
+        return std::sin(M_PI * p0 * X[0]);
+    case model::SpaceFn::hat_x:
+        return hat(X[0], box[0], box[1]);
+    case model::SpaceFn::hat_y:
+        return hat(X[1], box[2], box[3]);
     }
     return 0;
 }
@@ -79,8 +91,8 @@ bool segments_cross(const double* a, const double* b, const double* c, const dou
 
 } // namespace
 
-
-Solver::Solver(const model::Model& m) : m_(m) {
+Solver::Solver(const model::Model& m)
+    : m_(m) {
     const std::size_t n = m.nodes.num(), nb = m.bodies.num();
     s_.n = n;
     s_.x0 = m.nodes.x0;
@@ -180,8 +192,8 @@ Solver::Solver(const model::Model& m) : m_(m) {
         }
         law_.any_breakable =
             law_.any_breakable || (std::isfinite(law_.s0[b]) && !m.bodies.fixed[b]);
-        law_.krep[b] = 18.0 * mat.bulk_modulus() /
-                       (M_PI * std::pow(m.bodies.horizon[b], m.dimension + 2));
+        law_.krep[b] =
+            18.0 * mat.bulk_modulus() / (M_PI * std::pow(m.bodies.horizon[b], m.dimension + 2));
         law_.rrep[b] = 0.95 * m.bodies.mesh_size[b];
     }
     // Optional PMB surface correction (solver.surface_correction, off by default): the discrete
@@ -198,8 +210,8 @@ Solver::Solver(const model::Model& m) : m_(m) {
         for (std::size_t i = 0; i < n; ++i) {
             const auto b = static_cast<std::size_t>(s_.body[i]);
             const double d = m.bodies.horizon[b];
-            const double cont = m.dimension == 3 ? M_PI * std::pow(d, 4)
-                                                 : 2.0 * M_PI * std::pow(d, 3) / 3.0;
+            const double cont =
+                m.dimension == 3 ? M_PI * std::pow(d, 4) : 2.0 * M_PI * std::pow(d, 3) / 3.0;
             double sum = 0;
             for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
                 const auto kk = static_cast<std::size_t>(k);
@@ -219,8 +231,7 @@ Solver::Solver(const model::Model& m) : m_(m) {
         b_.omega.resize(b_.neighbor.size());
         for (std::size_t i = 0; i < n; ++i) {
             const auto b = static_cast<std::size_t>(s_.body[i]);
-            const auto inf =
-                m.materials[static_cast<std::size_t>(m.bodies.material[b])].influence;
+            const auto inf = m.materials[static_cast<std::size_t>(m.bodies.material[b])].influence;
             for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
                 const auto kk = static_cast<std::size_t>(k);
                 b_.omega[kk] = model::influence(inf, b_.xi[kk] / m.bodies.horizon[b]);
@@ -336,8 +347,8 @@ void Solver::compute_forces() {
             contact_->update(s_);
         }
         ScopedTimer t(timers_, t_contact_);
-        contact_count_ = contact_->add_forces(s_, contact_energy_,
-                                              records_ ? &pair_records_ : nullptr);
+        contact_count_ =
+            contact_->add_forces(s_, contact_energy_, records_ ? &pair_records_ : nullptr);
     } else {
         contact_count_ = 0;
         contact_energy_ = 0;
@@ -612,8 +623,8 @@ void Solver::apply_friction() {
         if (!(r.friction > 0))
             continue;
         const auto i = static_cast<std::size_t>(r.i), j = static_cast<std::size_t>(r.j);
-        const double fm = std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] +
-                                    r.force[2] * r.force[2]);
+        const double fm =
+            std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] + r.force[2] * r.force[2]);
         if (!(fm > 0))
             continue;
         double vt[3];
@@ -635,8 +646,8 @@ void Solver::apply_friction() {
             continue;
         const auto i = static_cast<std::size_t>(r.node);
         const auto w = static_cast<std::size_t>(r.wall);
-        const double fm = std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] +
-                                    r.force[2] * r.force[2]);
+        const double fm =
+            std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] + r.force[2] * r.force[2]);
         if (!(fm > 0))
             continue;
         const auto p = wall_pose(m_.walls[w], s_.time);
@@ -652,8 +663,7 @@ void Solver::apply_friction() {
         if (!(vtm > 0))
             continue;
         const double stop = s_.rho[i] * s_.vol[i] * vtm / dt_;
-        const double ft =
-            std::min(r.friction * fm * factor(r.body, -1 - r.wall), stop) / vtm;
+        const double ft = std::min(r.friction * fm * factor(r.body, -1 - r.wall), stop) / vtm;
         double F[3];
         for (std::size_t d = 0; d < 3; ++d) {
             s_.f[3 * i + d] += ft * vt[d] / s_.vol[i];
@@ -770,7 +780,8 @@ Observables Solver::observe() const {
     const auto n = static_cast<std::int64_t>(s_.n);
 #pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2) if (n > parallel_min)
     for (std::int64_t i = 0; i < n; ++i) {
-        const double mass = s_.rho[static_cast<std::size_t>(i)] * s_.vol[static_cast<std::size_t>(i)];
+        const double mass =
+            s_.rho[static_cast<std::size_t>(i)] * s_.vol[static_cast<std::size_t>(i)];
         const double* v = &s_.v[3 * i];
         ke += 0.5 * mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         p0 += mass * v[0];
@@ -791,7 +802,9 @@ Observables Solver::observe() const {
     return o;
 }
 
-void Solver::damage(std::vector<double>& phi) const { damage_phi(s_, b_, phi); }
+void Solver::damage(std::vector<double>& phi) const {
+    damage_phi(s_, b_, phi);
+}
 
 void Solver::damage_z(std::vector<double>& z) const {
     z.assign(s_.n, 0.0);
@@ -812,12 +825,14 @@ void Solver::damage_z(std::vector<double>& z) const {
             if (law_.rnp[b]) {
                 double dot = 0;
                 for (std::size_t d = 0; d < 3; ++d)
-                    dot += (s_.u[3 * j + d] - s_.u[3 * ii + d]) * (s_.x0[3 * j + d] - s_.x0[3 * ii + d]);
+                    dot += (s_.u[3 * j + d] - s_.u[3 * ii + d]) *
+                           (s_.x0[3 * j + d] - s_.x0[3 * ii + d]);
                 st = std::abs(dot / (r * r)) / (law_.rnp_rbar[b] / std::sqrt(r));
             } else {
                 double l2 = 0;
                 for (std::size_t d = 0; d < 3; ++d)
-                    l2 += (s_.x[3 * j + d] - s_.x[3 * ii + d]) * (s_.x[3 * j + d] - s_.x[3 * ii + d]);
+                    l2 +=
+                        (s_.x[3 * j + d] - s_.x[3 * ii + d]) * (s_.x[3 * j + d] - s_.x[3 * ii + d]);
                 st = std::abs(std::sqrt(l2) - r) / r / s0;
             }
             zmax = std::max(zmax, st);

@@ -18,22 +18,22 @@ namespace pd::solver {
 
 /// Stable time step estimate (s) and the limit that governs it.
 struct StableDt {
-    double pd = 0;      ///< bond limit, Silling & Askari 2005: min_i sqrt(2 rho / sum_j c beta V_j / xi)
-    double contact = 0; ///< contact limit sqrt(2 rho / (Kn sum V_j)) over a contact disc of R_c
-    double limit = 0;   ///< min of the two
+    double pd = 0; ///< bond limit, Silling & Askari 2005: min_i sqrt(2 rho / sum_j c beta V_j / xi)
+    double contact = 0;    ///< contact limit sqrt(2 rho / (Kn sum V_j)) over a contact disc of R_c
+    double limit = 0;      ///< min of the two
     std::string governing; ///< "peridynamic bonds" or "contact stiffness"
 };
 
 /// Quantities observed after a step (2D: per unit thickness).
 struct Observables {
-    double kinetic_energy = 0;    ///< J
-    double elastic_energy = 0;    ///< J, intact bonds
-    double contact_energy = 0;    ///< J, contact springs
-    double external_work = 0;     ///< J, work of gravity, force and displacement conditions,
-                                  ///< moving walls since t = 0
-    double momentum[3] = {0, 0, 0}; ///< kg m s-1
-    std::int64_t contact_count = 0; ///< node pairs (and node-wall pairs) closer than R_c
-    std::int64_t broken_bonds = 0;  ///< broken bonds (pairs)
+    double kinetic_energy = 0;       ///< J
+    double elastic_energy = 0;       ///< J, intact bonds
+    double contact_energy = 0;       ///< J, contact springs
+    double external_work = 0;        ///< J, work of gravity, force and displacement conditions,
+                                     ///< moving walls since t = 0
+    double momentum[3] = {0, 0, 0};  ///< kg m s-1
+    std::int64_t contact_count = 0;  ///< node pairs (and node-wall pairs) closer than R_c
+    std::int64_t broken_bonds = 0;   ///< broken bonds (pairs)
     std::vector<double> wall_force;  ///< 3 per wall, N, received by the wall
     std::vector<double> wall_moment; ///< 3 per wall, N m, about its rotation centre
 };

@@ -30,7 +30,7 @@ struct State {
     std::vector<double> vol; ///< nodal volume, m3
     std::vector<double> rho; ///< density, kg m-3
     std::vector<std::int32_t> body;
-    std::vector<std::uint8_t> moving; ///< 1 = integrated (free body)
+    std::vector<std::uint8_t> moving;    ///< 1 = integrated (free body)
     std::vector<std::uint8_t> fixed_dof; ///< bit d: component d prescribed by a condition
     std::int64_t step = 0;
     double time = 0;
@@ -57,10 +57,10 @@ bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double
 
 /// Per-body constants of the bond law (bonds never cross bodies).
 struct BodyLaw {
-    std::vector<std::uint8_t> lps; ///< 1 = LPS body
-    std::vector<std::uint8_t> rnp; ///< 1 = RNP body (neither: PMB)
+    std::vector<std::uint8_t> lps;                          ///< 1 = LPS body
+    std::vector<std::uint8_t> rnp;                          ///< 1 = RNP body (neither: PMB)
     std::vector<double> rnp_c, rnp_beta, rnp_rbar, rnp_inv; ///< RNP constants per body
-    std::vector<double> c;     ///< PMB micromodulus, N m-6
+    std::vector<double> c;                                  ///< PMB micromodulus, N m-6
     std::vector<double> s0;    ///< critical stretch (inf = unbreakable)
     std::vector<double> kappa; ///< LPS bulk modulus of the d-dimensional problem, Pa
     std::vector<double> mu;    ///< LPS shear modulus, Pa

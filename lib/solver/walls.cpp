@@ -66,7 +66,10 @@ WallPose wall_pose(const model::Wall& w, double t) {
     return p;
 }
 
-WallContact::WallContact(const model::Model& m, double skin) : m_(m), walls_(m.walls), skin_(skin) {
+WallContact::WallContact(const model::Model& m, double skin)
+    : m_(m)
+    , walls_(m.walls)
+    , skin_(skin) {
     for (auto g : m.bodies.group)
         ngroups_ = std::max(ngroups_, g + 1);
     law_.assign(static_cast<std::size_t>(ngroups_) * walls_.size(), -1);
@@ -93,9 +96,9 @@ bool WallContact::update(const State& s) {
         double wall_move = 0;
         const double dt = s.time - t_build_;
         for (const auto& w : walls_) {
-            const double v = std::sqrt(w.velocity[0] * w.velocity[0] +
-                                       w.velocity[1] * w.velocity[1] +
-                                       w.velocity[2] * w.velocity[2]);
+            const double v =
+                std::sqrt(w.velocity[0] * w.velocity[0] + w.velocity[1] * w.velocity[1] +
+                          w.velocity[2] * w.velocity[2]);
             const double om = std::sqrt(w.angular_velocity[0] * w.angular_velocity[0] +
                                         w.angular_velocity[1] * w.angular_velocity[1] +
                                         w.angular_velocity[2] * w.angular_velocity[2]);
@@ -124,8 +127,8 @@ void WallContact::rebuild(const State& s) {
     for (std::size_t i = 0; i < s.n; ++i) {
         if (!s.moving[i])
             continue;
-        const auto g = static_cast<std::size_t>(
-            m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
+        const auto g =
+            static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
         bool any = false;
         for (std::size_t w = 0; w < walls_.size(); ++w) {
             if (law_[g * walls_.size() + w] < 0)
@@ -173,7 +176,8 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
         for (std::int64_t a = 0; a < nn; ++a) {
             const auto i = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(a)]);
             const double* x = &s.x[3 * i];
-            const auto g = static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
+            const auto g =
+                static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
             for (auto k = offsets_[static_cast<std::size_t>(a)];
                  k < offsets_[static_cast<std::size_t>(a) + 1]; ++k) {
                 const auto w = static_cast<std::size_t>(wall_of_[static_cast<std::size_t>(k)]);
@@ -185,10 +189,12 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
                 const double fn = law.stiffness * (law.radius - d) * s.vol[i]; // density
                 double f[3] = {fn * n[0], fn * n[1], fn * n[2]};
                 if (normal && (law.restitution < 1 || law.friction > 0))
-                    mine.push_back({s.body[i], static_cast<std::int32_t>(w),
+                    mine.push_back({s.body[i],
+                                    static_cast<std::int32_t>(w),
                                     static_cast<index_t>(i),
                                     {f[0] * s.vol[i], f[1] * s.vol[i], f[2] * s.vol[i]},
-                                    law.friction, law.restitution < 1});
+                                    law.friction,
+                                    law.restitution < 1});
                 for (int q = 0; q < 3; ++q)
                     s.f[3 * i + q] += f[q];
                 const double F[3] = {-f[0] * s.vol[i], -f[1] * s.vol[i], -f[2] * s.vol[i]};
@@ -200,8 +206,8 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
                 fmp[6 * w + 3] += r[1] * F[2] - r[2] * F[1];
                 fmp[6 * w + 4] += r[2] * F[0] - r[0] * F[2];
                 fmp[6 * w + 5] += r[0] * F[1] - r[1] * F[0];
-                energy += 0.5 * law.stiffness * (law.radius - d) * (law.radius - d) * s.vol[i] *
-                          s.vol[i];
+                energy +=
+                    0.5 * law.stiffness * (law.radius - d) * (law.radius - d) * s.vol[i] * s.vol[i];
                 ++touching;
             }
         }
@@ -212,7 +218,8 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     }
     for (std::size_t w = 0; w < nw; ++w)
         for (int q = 0; q < 3; ++q) {
-            load.force[3 * w + static_cast<std::size_t>(q)] = fm[6 * w + static_cast<std::size_t>(q)];
+            load.force[3 * w + static_cast<std::size_t>(q)] =
+                fm[6 * w + static_cast<std::size_t>(q)];
             load.moment[3 * w + static_cast<std::size_t>(q)] =
                 fm[6 * w + 3 + static_cast<std::size_t>(q)];
         }

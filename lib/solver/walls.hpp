@@ -18,9 +18,9 @@ namespace pd::solver {
 
 /// Position of a wall at time t.
 struct WallPose {
-    std::array<double, 3> point;   ///< m
-    std::array<double, 3> normal;  ///< unit (plane)
-    std::array<double, 3> centre;  ///< m, rotation centre
+    std::array<double, 3> point;  ///< m
+    std::array<double, 3> normal; ///< unit (plane)
+    std::array<double, 3> centre; ///< m, rotation centre
     std::array<double, 3> velocity;
     std::array<double, 3> omega;
 };

@@ -59,9 +59,9 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
         h5::dims_t d;
         auto v = f.read<double>(g + "/" + p, &d);
         if (d.size() != 2 || d[0] != num_nodes || d[1] != 3)
-            throw SchemaError(f.name(), g + "/" + p,
-                              fmt::format("expected shape ({}, 3) (the file's node count)",
-                                          num_nodes));
+            throw SchemaError(
+                f.name(), g + "/" + p,
+                fmt::format("expected shape ({}, 3) (the file's node count)", num_nodes));
         return v;
     };
     c.u = get3("displacement");
@@ -69,9 +69,9 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
     c.f = get3("force_density");
     c.alive = f.read<std::uint8_t>(g + "/bond_alive");
     if (c.alive.size() != num_bonds)
-        throw SchemaError(f.name(), g + "/bond_alive",
-                          fmt::format("has {} entries, expected {} bonds", c.alive.size(),
-                                      num_bonds));
+        throw SchemaError(
+            f.name(), g + "/bond_alive",
+            fmt::format("has {} entries, expected {} bonds", c.alive.size(), num_bonds));
     return c;
 }
 

@@ -13,27 +13,23 @@ namespace {
 const std::string P = path::particles;
 const std::string O = path::observables;
 
-std::string field_path(const std::string& field) { return P + "/" + field; }
+std::string field_path(const std::string& field) {
+    return P + "/" + field;
+}
 } // namespace
 
 const std::vector<FieldInfo>& frame_fields() {
-    static const std::vector<FieldInfo> f{{"position", 3, "m"},
-                                          {"velocity", 3, "m s-1"},
-                                          {"displacement", 3, "m"},
-                                          {"force", 3, "N"},
-                                          {"damage", 1, "1"},
-                                          {"damage_z", 1, "1"}};
+    static const std::vector<FieldInfo> f{{"position", 3, "m"},     {"velocity", 3, "m s-1"},
+                                          {"displacement", 3, "m"}, {"force", 3, "N"},
+                                          {"damage", 1, "1"},       {"damage_z", 1, "1"}};
     return f;
 }
 
 const std::vector<ObservableInfo>& observable_list() {
-    static const std::vector<ObservableInfo> o{{"kinetic_energy", 1, "J"},
-                                               {"elastic_energy", 1, "J"},
-                                               {"contact_energy", 1, "J"},
-                                               {"external_work", 1, "J"},
-                                               {"momentum", 3, "kg m s-1"},
-                                               {"contact_count", 1, "1"},
-                                               {"broken_bonds", 1, "1"}};
+    static const std::vector<ObservableInfo> o{
+        {"kinetic_energy", 1, "J"}, {"elastic_energy", 1, "J"},  {"contact_energy", 1, "J"},
+        {"external_work", 1, "J"},  {"momentum", 3, "kg m s-1"}, {"contact_count", 1, "1"},
+        {"broken_bonds", 1, "1"}};
     return o;
 }
 
@@ -41,7 +37,8 @@ static const FieldInfo& field_info(const std::string& name) {
     for (const auto& fi : frame_fields())
         if (fi.name == name)
             return fi;
-    throw InputError("unknown frame field '" + name + "' (known: position, velocity, "
+    throw InputError("unknown frame field '" + name +
+                     "' (known: position, velocity, "
                      "displacement, force, damage, damage_z)");
 }
 
@@ -54,10 +51,12 @@ void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& spec
 }
 
 FrameWriter::FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields)
-    : f_(f), n_(num_nodes) {
+    : f_(f)
+    , n_(num_nodes) {
     fields_.push_back("position");
     for (auto& name : fields)
-        if (name != "position" && std::find(fields_.begin(), fields_.end(), name) == fields_.end()) {
+        if (name != "position" &&
+            std::find(fields_.begin(), fields_.end(), name) == fields_.end()) {
             field_info(name);
             fields_.push_back(name);
         }
@@ -111,10 +110,12 @@ void FrameWriter::write(std::int64_t step, double time,
     ++frames_;
 }
 
-FrameReader::FrameReader(const h5::File& f) : f_(f) {
+FrameReader::FrameReader(const h5::File& f)
+    : f_(f) {
     const std::string pos = field_path("position");
     if (!f_.exists(pos + "/value"))
-        throw SchemaError(f_.name(), pos + "/value", "missing: the file has no frames (run pd-solve)");
+        throw SchemaError(f_.name(), pos + "/value",
+                          "missing: the file has no frames (run pd-solve)");
     steps_ = f_.read<std::int64_t>(pos + "/step");
     times_ = f_.read<double>(pos + "/time");
     auto sh = f_.shape(pos + "/value");
@@ -135,7 +136,9 @@ std::vector<std::string> FrameReader::fields() const {
     return out;
 }
 
-int FrameReader::components(const std::string& field) const { return field_info(field).components; }
+int FrameReader::components(const std::string& field) const {
+    return field_info(field).components;
+}
 
 std::string FrameReader::unit(const std::string& field) const {
     const std::string p = field_path(field) + "/value";
@@ -151,7 +154,8 @@ std::vector<double> FrameReader::read(const std::string& field, std::size_t k) c
 }
 
 ObservableWriter::ObservableWriter(h5::File& f, std::size_t num_walls)
-    : f_(f), walls_(num_walls) {}
+    : f_(f)
+    , walls_(num_walls) {}
 
 void ObservableWriter::add(std::int64_t step, double time, std::span<const double> values) {
     steps_.push_back(step);
@@ -246,8 +250,8 @@ void truncate_after(h5::File& f, std::int64_t step) {
         if (!f.exists(owner + "/step"))
             return;
         auto steps = f.read<std::int64_t>(owner + "/step");
-        auto keep = static_cast<std::uint64_t>(
-            std::upper_bound(steps.begin(), steps.end(), step) - steps.begin());
+        auto keep = static_cast<std::uint64_t>(std::upper_bound(steps.begin(), steps.end(), step) -
+                                               steps.begin());
         if (keep == steps.size())
             return;
         f.resize_rows(owner + "/step", keep);

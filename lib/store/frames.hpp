@@ -20,9 +20,9 @@ namespace pd::store {
 
 /// A nodal field stored in frames.
 struct FieldInfo {
-    std::string name;  ///< "position", "velocity", "displacement", "force", "damage"
-    int components;    ///< 3 or 1
-    std::string unit;  ///< SI unit string
+    std::string name; ///< "position", "velocity", "displacement", "force", "damage"
+    int components;   ///< 3 or 1
+    std::string unit; ///< SI unit string
 };
 
 /// The nodal fields pd-solve can write, in this order.

@@ -65,8 +65,7 @@ T get_scalar(const h5::File& f, const std::string& p) {
 }
 
 template <class T>
-void require_range(const h5::File& f, const std::string& p, const std::vector<T>& v, T lo,
-                   T hi) {
+void require_range(const h5::File& f, const std::string& p, const std::vector<T>& v, T lo, T hi) {
     for (std::size_t i = 0; i < v.size(); ++i)
         if (v[i] < lo || v[i] >= hi)
             throw SchemaError(f.name(), p,
@@ -93,9 +92,10 @@ void write_model(h5::File& f, const model::Model& m) {
     f.set_attr("/", "schema_version", schema_version);
     f.set_attr("/", "units", "SI");
     f.set_attr("/", "dimension", static_cast<std::int32_t>(m.dimension));
-    f.set_attr("/", "planar", m.dimension == 3 ? "none"
-                              : m.planar == model::Planar::plane_stress ? "plane_stress"
-                                                                         : "plane_strain");
+    f.set_attr("/", "planar",
+               m.dimension == 3                          ? "none"
+               : m.planar == model::Planar::plane_stress ? "plane_stress"
+                                                         : "plane_strain");
     f.set_attr("/", "thickness", 1.0);
     f.set_attr("/", "title", m.title);
     f.create_group("/h5md/author");
@@ -129,9 +129,10 @@ void write_model(h5::File& f, const model::Model& m) {
         const std::string g = fmt::format("{}/mesh_{}", path::reference_meshes, k);
         f.create_group(g);
         f.set_attr(g, "name", rm.name);
-        f.set_attr(g, "cell_type", rm.nodes_per_cell == 4 && m.dimension == 3 ? "tetra"
-                                   : rm.nodes_per_cell == 4                   ? "quad"
-                                                                              : "triangle");
+        f.set_attr(g, "cell_type",
+                   rm.nodes_per_cell == 4 && m.dimension == 3 ? "tetra"
+                   : rm.nodes_per_cell == 4                   ? "quad"
+                                                              : "triangle");
         put(f, g + "/nodes", rm.nodes, {rm.nodes.size() / 3, 3}, "m");
         put(f, g + "/cells", rm.cells,
             {rm.cells.size() / static_cast<std::size_t>(rm.nodes_per_cell),
@@ -243,8 +244,7 @@ void write_model(h5::File& f, const model::Model& m) {
         f.set_attr(g, "space_function", static_cast<std::int32_t>(c.space_fn));
         put(f, g + "/nodes", c.nodes, {c.nodes.size()}, "1");
         put_scalar(f, g + "/amplitude", c.amplitude, c.is_force ? "N m-3" : "m");
-        put(f, g + "/parameters", std::vector<double>(c.params.begin(), c.params.end()), {4},
-            "1");
+        put(f, g + "/parameters", std::vector<double>(c.params.begin(), c.params.end()), {4}, "1");
         if (c.time_fn == model::TimeFn::rotation)
             put(f, g + "/centre", std::vector<double>(c.centre.begin(), c.centre.end()), {3}, "m");
     }
@@ -264,9 +264,9 @@ void write_model(h5::File& f, const model::Model& m) {
             fl += (fl.empty() ? "" : ",") + x;
         f.set_attr(s, "fields", fl);
     }
-    f.set_attr(s, "integrator", S.integrator == model::Integrator::velocity_verlet
-                                    ? "velocity_verlet"
-                                    : "symplectic_euler");
+    f.set_attr(s, "integrator",
+               S.integrator == model::Integrator::velocity_verlet ? "velocity_verlet"
+                                                                  : "symplectic_euler");
     f.flush();
 }
 
@@ -275,11 +275,10 @@ model::Model read_model(const h5::File& f) {
     model::Model m;
     m.dimension = f.attr<std::int32_t>("/", "dimension");
     if (m.dimension != 2 && m.dimension != 3)
-        throw SchemaError(f.name(), "/", fmt::format("attribute dimension = {}, expected 2 or 3",
-                                                     m.dimension));
+        throw SchemaError(f.name(), "/",
+                          fmt::format("attribute dimension = {}, expected 2 or 3", m.dimension));
     const std::string planar = f.attr_string("/", "planar");
-    m.planar = planar == "plane_strain" ? model::Planar::plane_strain
-                                        : model::Planar::plane_stress;
+    m.planar = planar == "plane_strain" ? model::Planar::plane_strain : model::Planar::plane_stress;
     m.title = f.has_attr("/", "title") ? f.attr_string("/", "title") : "";
     m.scene_json = f.exists(path::parameters_scene) ? f.read_string(path::parameters_scene) : "";
 
@@ -298,9 +297,7 @@ model::Model read_model(const h5::File& f) {
         const auto law = f.attr_string(g, "law");
         if (law != "pmb" && law != "lps" && law != "rnp")
             throw SchemaError(f.name(), g, "law '" + law + "' unknown (pmb, lps, rnp)");
-        mat.law = law == "lps"   ? model::Law::lps
-                  : law == "rnp" ? model::Law::rnp
-                                 : model::Law::pmb;
+        mat.law = law == "lps" ? model::Law::lps : law == "rnp" ? model::Law::rnp : model::Law::pmb;
         const auto inf = f.has_attr(g, "influence") ? f.attr_string(g, "influence") : "constant";
         if (inf != "constant" && inf != "linear" && inf != "gaussian")
             throw SchemaError(f.name(), g, "influence '" + inf + "' unknown");
@@ -365,9 +362,9 @@ model::Model read_model(const h5::File& f) {
     require_range<std::int32_t>(f, nd + "/body", m.nodes.body, 0, static_cast<std::int32_t>(nb));
     for (std::size_t i = 0; i < n; ++i)
         if (!(m.nodes.volume[i] > 0))
-            throw SchemaError(f.name(), nd + "/volume",
-                              fmt::format("node {} has non-positive volume {}", i,
-                                          m.nodes.volume[i]));
+            throw SchemaError(
+                f.name(), nd + "/volume",
+                fmt::format("node {} has non-positive volume {}", i, m.nodes.volume[i]));
     if (B.node_offsets.front() != 0 || B.node_offsets.back() != static_cast<std::int64_t>(n) ||
         !std::is_sorted(B.node_offsets.begin(), B.node_offsets.end()))
         throw SchemaError(f.name(), b + "/node_offsets",
@@ -379,9 +376,9 @@ model::Model read_model(const h5::File& f) {
     if (m.bonds.offsets.front() != 0 ||
         m.bonds.offsets.back() != static_cast<std::int64_t>(m.bonds.neighbor.size()) ||
         !std::is_sorted(m.bonds.offsets.begin(), m.bonds.offsets.end()))
-        throw SchemaError(f.name(), bo + "/offsets",
-                          fmt::format("must rise from 0 to the bond count {}",
-                                      m.bonds.neighbor.size()));
+        throw SchemaError(
+            f.name(), bo + "/offsets",
+            fmt::format("must rise from 0 to the bond count {}", m.bonds.neighbor.size()));
     require_range<std::int32_t>(f, bo + "/neighbor", m.bonds.neighbor, 0,
                                 static_cast<std::int32_t>(n));
     // Contact.
@@ -469,7 +466,8 @@ model::Model read_model(const h5::File& f) {
     if (f.exists(cs)) {
         auto seg = get<double>(f, cs, {0, 2, 3});
         for (std::size_t k = 0; k + 6 <= seg.size(); k += 6)
-            m.cracks.push_back({{seg[k], seg[k + 1], seg[k + 2]}, {seg[k + 3], seg[k + 4], seg[k + 5]}});
+            m.cracks.push_back(
+                {{seg[k], seg[k + 1], seg[k + 2]}, {seg[k + 3], seg[k + 4], seg[k + 5]}});
     }
     const std::string s = path::solver;
     auto& S = m.solver;

@@ -13,8 +13,8 @@ class File;
 namespace pd::store {
 
 struct Partition {
-    std::string by = "body";        ///< "body" or "node"
-    std::string method;             ///< "metis_kway", "trivial"
+    std::string by = "body"; ///< "body" or "node"
+    std::string method;      ///< "metis_kway", "trivial"
     std::int32_t num_parts = 1;
     std::vector<std::int32_t> owner; ///< part of each body (or node)
     std::int64_t edge_cut = 0;       ///< weighted edges between parts

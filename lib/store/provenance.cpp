@@ -13,8 +13,7 @@ void append_provenance(h5::File& f, const RunInfo& run, int exit_status) {
     const auto existing = f.list(path::provenance);
     std::string tool = run.tool;
     std::replace(tool.begin(), tool.end(), '-', '_');
-    const std::string g =
-        fmt::format("{}/{:03d}_{}", path::provenance, existing.size(), tool);
+    const std::string g = fmt::format("{}/{:03d}_{}", path::provenance, existing.size(), tool);
     f.create_group(g);
     f.set_attr(g, "tool", run.tool);
     f.set_attr(g, "version", run.version);

@@ -10,7 +10,8 @@ namespace pd::store {
 
 void check_version(const h5::File& f) {
     if (!f.has_attr("/", "schema") || f.attr_string("/", "schema") != schema_name)
-        throw SchemaError(f.name(), "/", "not a pd-file (root attribute 'schema' is not 'pd-file')");
+        throw SchemaError(f.name(), "/",
+                          "not a pd-file (root attribute 'schema' is not 'pd-file')");
     if (!f.has_attr("/", "schema_version"))
         throw SchemaError(f.name(), "/", "missing root attribute 'schema_version'");
     std::string v = f.attr_string("/", "schema_version");
@@ -23,9 +24,9 @@ void check_version(const h5::File& f) {
                                       "(upgrade pdgrain)",
                                       v, schema_major));
     if (major < schema_major)
-        throw SchemaError(f.name(), "/",
-                          fmt::format("pd-file {} is older than {}.x and not readable", v,
-                                      schema_major));
+        throw SchemaError(
+            f.name(), "/",
+            fmt::format("pd-file {} is older than {}.x and not readable", v, schema_major));
 }
 
 } // namespace pd::store

@@ -8,7 +8,8 @@
 
 int main(int argc, char** argv) {
     pd::pipeline::PackOptions opt;
-    CLI::App app{"pd-pack: build a pdgrain scene (meshes, nodes, bonds, contact) into a pd-file", "pd-pack"};
+    CLI::App app{"pd-pack: build a pdgrain scene (meshes, nodes, bonds, contact) into a pd-file",
+                 "pd-pack"};
     auto* scene = app.add_option("scene", opt.scene, "scene file (JSON; comments allowed)")
                       ->check(CLI::ExistingFile);
     auto* deck = app.add_option("--from-peridem", opt.from_peridem,

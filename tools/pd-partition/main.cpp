@@ -7,7 +7,8 @@
 
 int main(int argc, char** argv) {
     pd::pipeline::PartitionOptions opt;
-    CLI::App app{"pd-partition: split the grains of a pd-file into MPI parts (METIS)", "pd-partition"};
+    CLI::App app{"pd-partition: split the grains of a pd-file into MPI parts (METIS)",
+                 "pd-partition"};
     app.add_option("file", opt.file, "pd-file, updated in place (/partition)")
         ->required()
         ->check(CLI::ExistingFile);

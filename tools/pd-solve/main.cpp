@@ -8,7 +8,8 @@
 
 int main(int argc, char** argv) {
     pd::pipeline::SolveOptions opt;
-    CLI::App app{"pd-solve: run a pd-file to its final time (velocity Verlet, PMB, contact)", "pd-solve"};
+    CLI::App app{"pd-solve: run a pd-file to its final time (velocity Verlet, PMB, contact)",
+                 "pd-solve"};
     app.add_option("file", opt.file, "pd-file, updated in place (frames, observables)")
         ->required()
         ->check(CLI::ExistingFile);

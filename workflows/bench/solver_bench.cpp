@@ -59,10 +59,9 @@ Run run(const model::Model& m, int steps) {
     s.advance(); // warm-up
     auto& T = s.timers();
     const double b0 = T.total(T.id("pd::solver::bond_forces"));
-    const double c0 = T.total(T.id("pd::solver::contact_search")) +
-                      T.total(T.id("pd::solver::contact_forces")) +
-                      T.total(T.id("pd::solver::wall_contact")) +
-                      T.total(T.id("pd::solver::damping_friction"));
+    const double c0 =
+        T.total(T.id("pd::solver::contact_search")) + T.total(T.id("pd::solver::contact_forces")) +
+        T.total(T.id("pd::solver::wall_contact")) + T.total(T.id("pd::solver::damping_friction"));
     const auto t0 = Clock::now();
     for (int k = 0; k < steps; ++k)
         s.advance();
@@ -118,8 +117,7 @@ int main(int argc, char** argv) {
     fmt::print("| scene | nodes | steps | node-steps/s | contact share of step |\n");
     fmt::print("|---|---|---|---|---|\n");
     const std::string src = PD_SOURCE_DIR;
-    for (const auto& [name, file] :
-         std::vector<std::pair<std::string, std::string>>{
+    for (const auto& [name, file] : std::vector<std::pair<std::string, std::string>>{
              {"two discs (demo)", src + "/examples/two_discs/scene.json"},
              {"500-grain pack on walls", src + "/examples/pack500/scene.json"}}) {
         auto m = pipeline::build_scene(read(file), file, quiet);

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // A gmsh-meshed disc: nodal volumes sum to pi R^2 within 1%, h equals the minimum pairwise node
 // distance, instances are exact rotations/scalings of the reference.
-#include "mesh/discretize.hpp"
 #include "core/errors.hpp"
+#include "mesh/discretize.hpp"
 #include "mesh/gmsh_mesher.hpp"
 
 #include <gtest/gtest.h>

@@ -34,7 +34,9 @@ std::string error_of(const std::string& text) {
 
 const std::string one = R"({"radius": 1e-3, "center": [0, 0], "material": "m1"})";
 
-TEST(Scene, Valid) { EXPECT_EQ(error_of(base(one)), ""); }
+TEST(Scene, Valid) {
+    EXPECT_EQ(error_of(base(one)), "");
+}
 
 TEST(Scene, UnknownKeySuggestsClosest) {
     auto e = error_of(base(R"({"radius": 1e-3, "centre": [0, 0], "material": "m1"})"));
@@ -96,8 +98,8 @@ TEST(Scene, TwoOfEKGNuAndToughness) {
     EXPECT_NEAR(m.materials[0].poisson_ratio, 0.25, 1e-12);
     EXPECT_NEAR(m.materials[0].fracture_energy, 1e6 / 3.24e7, 1e-12); // KIc^2 / E
     // PMB in plane stress fixes nu = 1/3: E and G must agree with it (G = E / (2 (1 + nu))).
-    m = pipeline::build_scene(with_material(R"("youngs_modulus": 8e9, "shear_modulus": 3e9)"),
-                              "s", quiet);
+    m = pipeline::build_scene(with_material(R"("youngs_modulus": 8e9, "shear_modulus": 3e9)"), "s",
+                              quiet);
     EXPECT_NEAR(m.materials[0].youngs_modulus, 8e9, 1e-3);
     auto e = error_of(with_material(R"("youngs_modulus": 8e9, "shear_modulus": 4e9)"));
     EXPECT_NE(e.find("fixes nu"), std::string::npos) << e;

@@ -41,7 +41,8 @@ std::array<double, 3> com(const model::Model& m, const solver::State& s, std::si
 double plate_strain_error(double h) {
     const double L = 8e-3, W = 4e-3, E = 1e9, rho = 1000, sigma = 1e5;
     const double delta = 3 * h;
-    const std::string sc = fmt::format(R"({{"dimension": 2,
+    const std::string sc =
+        fmt::format(R"({{"dimension": 2,
       "materials": {{"m": {{"density": {}, "youngs_modulus": {}}}}},
       "discretization": {{"mesh_size": {}, "horizon_factor": 3}},
       "shapes": {{"plate": {{"type": "rectangle", "size": [{}, {}], "mesh": "grid"}}}},
@@ -54,11 +55,10 @@ double plate_strain_error(double h) {
         {{"kind": "force_density", "region": {{"min": [{}, {}], "max": [{}, {}]}},
           "components": ["x"], "value": 1}}]}},
       "solver": {{"final_time": 1}}}})",
-                                       rho, E, h, L, W,
-                                       // critical damping of the fundamental mode
-                                       2 * M_PI * std::sqrt(E / rho) / (2 * L), -L, -W,
-                                       -L / 2 + delta + 1e-9, W, -L, -1e-9, -L / 2 + delta + 1e-9,
-                                       1e-9, L / 2 - delta - 1e-9, -W, L, W);
+                    rho, E, h, L, W,
+                    // critical damping of the fundamental mode
+                    2 * M_PI * std::sqrt(E / rho) / (2 * L), -L, -W, -L / 2 + delta + 1e-9, W, -L,
+                    -1e-9, -L / 2 + delta + 1e-9, 1e-9, L / 2 - delta - 1e-9, -W, L, W);
     auto m = pipeline::build_scene(sc, "plate", quiet);
     // Force density so that the band carries sigma W (per unit thickness) in total.
     auto& pull = m.loading.conditions[2];
@@ -183,8 +183,8 @@ TEST(Accuracy, NotchedPlateBreaksFromTheTip) {
             const double xi = st.x0[3 * i], yi = st.x0[3 * i + 1];
             const double xj = st.x0[3 * j], yj = st.x0[3 * j + 1];
             const double yc = 0.5e-5;
-            const bool crosses = (yi - yc) * (yj - yc) < 0 &&
-                                 xi + (xj - xi) * (yc - yi) / (yj - yi) <= tip_x;
+            const bool crosses =
+                (yi - yc) * (yj - yc) < 0 && xi + (xj - xi) * (yc - yi) / (yj - yi) <= tip_x;
             if (b.alive[static_cast<std::size_t>(k)] || crosses)
                 continue;
             ++fresh;
@@ -289,10 +289,9 @@ TEST(Accuracy, TwoSpheresCollide3D) {
     for (int k = 0; k < 20000; ++k) {
         s.advance();
         const auto o = s.observe();
-        maxdp = std::max({maxdp, std::abs(o.momentum[0]), std::abs(o.momentum[1]),
-                          std::abs(o.momentum[2])});
-        drift = std::max(drift, std::abs((o.kinetic_energy + o.elastic_energy +
-                                          o.contact_energy) /
+        maxdp = std::max(
+            {maxdp, std::abs(o.momentum[0]), std::abs(o.momentum[1]), std::abs(o.momentum[2])});
+        drift = std::max(drift, std::abs((o.kinetic_energy + o.elastic_energy + o.contact_energy) /
                                              o0.kinetic_energy -
                                          1));
         touched = touched || o.contact_count > 0;

@@ -161,16 +161,15 @@ TEST(Damage, ElasticCollisionBreaksNothing) {
 }
 
 TEST(Conditions, DisplacementAndForceFollowTheirFunctions) {
-    auto m = pipeline::build_scene(
-        scene(R"({"radius": 1e-3, "center": [0, 0], "material": "m1"})",
-              R"("loading": {"conditions": [
+    auto m = pipeline::build_scene(scene(R"({"radius": 1e-3, "center": [0, 0], "material": "m1"})",
+                                         R"("loading": {"conditions": [
                   {"kind": "displacement", "region": {"min": [-1e-3, -1e-3], "max": [-0.5e-3, 1e-3]},
                    "components": ["x", "y"], "value": 0},
                   {"kind": "displacement", "region": {"min": [0.5e-3, -1e-3], "max": [1e-3, 1e-3]},
                    "components": ["x"], "value": 0.01, "time_function": "linear"},
                   {"kind": "force_density", "particles": [0], "components": ["y"],
                    "value": 1000, "time_function": "sine", "time_parameter": 100}]})"),
-        "t", quiet);
+                                   "t", quiet);
     solver::Solver s(m);
     s.set_dt(0.5 * s.stable_dt().limit);
     s.initialize();
@@ -194,12 +193,12 @@ TEST(Conditions, DisplacementAndForceFollowTheirFunctions) {
 namespace {
 
 TEST(Conditions, RotationIsRigid) {
-    auto m = pipeline::build_scene(
-        scene(R"({"radius": 1e-3, "center": [2e-3, 1e-3], "material": "m1"})",
-              R"("loading": {"conditions": [
+    auto m =
+        pipeline::build_scene(scene(R"({"radius": 1e-3, "center": [2e-3, 1e-3], "material": "m1"})",
+                                    R"("loading": {"conditions": [
                   {"kind": "displacement", "particles": [0], "components": ["x", "y"],
                    "value": 100, "time_function": "rotation", "rotation_center": [1e-3, 0]}]})"),
-        "t", quiet);
+                              "t", quiet);
     solver::Solver s(m);
     s.set_dt(0.5 * s.stable_dt().limit);
     s.initialize();
@@ -223,13 +222,12 @@ namespace {
 TEST(Conditions, HatAndStaircaseForces) {
     // A hat in x over the body and the staircase T(t) of spec 5.7 (ramps 1e-6 s, plateaus
     // 2e-6 s): the applied force density is amplitude * T(t) * S(X) on each selected node.
-    auto m = pipeline::build_scene(
-        scene(R"({"radius": 1e-3, "center": [0, 0], "material": "m1"})",
-              R"("loading": {"conditions": [
+    auto m = pipeline::build_scene(scene(R"({"radius": 1e-3, "center": [0, 0], "material": "m1"})",
+                                         R"("loading": {"conditions": [
                   {"kind": "force_density", "particles": [0], "components": ["y"], "value": 10,
                    "space_function": "hat_x", "space_parameter": 2,
                    "time_function": "linear_step", "time_parameters": [1e-6, 2e-6]}]})"),
-        "t", quiet);
+                                   "t", quiet);
     solver::Solver s(m);
     s.set_dt(1e-7);
     s.initialize();

@@ -50,8 +50,8 @@ TEST(Dynamics, RigidMotionGivesNoBondForce) {
     double e_ref = 0;
     for (std::size_t i = 0; i < st.n; ++i)
         for (auto k = s.bonds().offsets[i]; k < s.bonds().offsets[i + 1]; ++k)
-            e_ref += 0.25 * c_pmb * 1e-6 * s.bonds().xi[k] * st.vol[i] *
-                     st.vol[s.bonds().neighbor[k]];
+            e_ref +=
+                0.25 * c_pmb * 1e-6 * s.bonds().xi[k] * st.vol[i] * st.vol[s.bonds().neighbor[k]];
     EXPECT_LT(s.observe().elastic_energy, 1e-12 * e_ref);
 }
 
@@ -123,7 +123,7 @@ TEST(Dynamics, HeadOnCollisionConservesMomentumAndEnergy) {
     const auto o1 = s.observe();
     EXPECT_GT(touched, 0);
     EXPECT_EQ(o1.contact_count, 0);                          // separated again
-    EXPECT_LT(max_dp / p1, 1e-12);                          // momentum to round-off
+    EXPECT_LT(max_dp / p1, 1e-12);                           // momentum to round-off
     EXPECT_LT(min_gap_energy, 0.5 * o0.kinetic_energy);      // a real collision happened
     const double e1 = o1.kinetic_energy + o1.elastic_energy; // no contact energy left
     EXPECT_NEAR(e1 / o0.kinetic_energy, 1.0, 1e-3);          // elastic: energy conserved
@@ -133,10 +133,11 @@ TEST(Dynamics, HeadOnCollisionConservesMomentumAndEnergy) {
 /// Every law conserves momentum to round-off and energy to the time-integration error in an
 /// elastic collision (no damping, no breaking at this speed).
 TEST(Dynamics, EveryLawConservesInACollision) {
-    for (const std::string law : {R"("law": "pmb")", R"("law": "lps", "poisson_ratio": 0.3)",
-                                  R"("law": "rnp")"}) {
+    for (const std::string law :
+         {R"("law": "pmb")", R"("law": "lps", "poisson_ratio": 0.3)", R"("law": "rnp")"}) {
         const std::string sc = R"({"dimension": 2,
-          "materials": {"m1": {)" + law + R"(, "density": 1200, "youngs_modulus": 3.24e7,
+          "materials": {"m1": {)" +
+                               law + R"(, "density": 1200, "youngs_modulus": 3.24e7,
                                "fracture_energy": 50}},
           "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
           "particles": [{"radius": 1e-3, "center": [-1.1e-3, 0], "material": "m1",
@@ -157,10 +158,10 @@ TEST(Dynamics, EveryLawConservesInACollision) {
             const auto o = s.observe();
             max_dp = std::max(max_dp, std::abs(o.momentum[0]));
             touched = std::max(touched, o.contact_count);
-            drift = std::max(drift, std::abs((o.kinetic_energy + o.elastic_energy +
-                                              o.contact_energy) /
-                                                 o0.kinetic_energy -
-                                             1));
+            drift =
+                std::max(drift, std::abs((o.kinetic_energy + o.elastic_energy + o.contact_energy) /
+                                             o0.kinetic_energy -
+                                         1));
         }
         EXPECT_GT(touched, 0) << law;
         EXPECT_LT(max_dp / p1, 1e-12) << law;
