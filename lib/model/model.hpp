@@ -95,6 +95,18 @@ struct ContactPair {
     double friction = 0;    ///< Coulomb mu
 };
 
+/// Time function T(t) of a boundary condition (spec 5.6-5.7; pdgrain takes the consistent
+/// derivative for `quadratic`). value = amplitude * T(t) * S(X).
+enum class TimeFn : std::uint8_t {
+    constant = 0,    ///< T = 1 (displacement: u = a, v = 0)
+    linear = 1,      ///< T = t
+    quadratic = 2,   ///< T = t + p1 t^2
+    sine = 3,        ///< T = sin(pi p1 t)
+    rotation = 4,    ///< rigid in-plane rotation by amplitude * t (rad) about `centre` (spec 5.6)
+    linear_step = 5, ///< force only: staircase L(t; p1, p2) of spec 5.7
+    linear_slow_fast = 6, ///< force only: p2 t for t <= p1, p3 t after (spec 5.7)
+};
+
 /// Rigid analytic wall (spec decision 3): costs no nodes. Motion is rigid: translation at a
 /// constant velocity and rotation at a constant angular velocity about `centre` (which itself
 /// translates with the wall). Every wall records the contact force and moment it receives.
@@ -114,18 +126,10 @@ struct Wall {
     std::array<double, 3> velocity{0, 0, 0};         ///< m s-1, translation
     std::array<double, 3> angular_velocity{0, 0, 0}; ///< rad s-1 (2D: z only)
     std::array<double, 3> centre{0, 0, 0};           ///< m, rotation centre at t = 0
-};
-
-/// Time function T(t) of a boundary condition (spec 5.6-5.7; pdgrain takes the consistent
-/// derivative for `quadratic`). value = amplitude * T(t) * S(X).
-enum class TimeFn : std::uint8_t {
-    constant = 0,    ///< T = 1 (displacement: u = a, v = 0)
-    linear = 1,      ///< T = t
-    quadratic = 2,   ///< T = t + p1 t^2
-    sine = 3,        ///< T = sin(pi p1 t)
-    rotation = 4,    ///< rigid in-plane rotation by amplitude * t (rad) about `centre` (spec 5.6)
-    linear_step = 5, ///< force only: staircase L(t; p1, p2) of spec 5.7
-    linear_slow_fast = 6, ///< force only: p2 t for t <= p1, p3 t after (spec 5.7)
+    /// Motion in time: displacement = velocity T(t), rotation angle = angular_velocity T(t)
+    /// (linear: constant velocities; also quadratic, sine, linear_step, linear_slow_fast).
+    TimeFn motion = TimeFn::linear;
+    std::array<double, 4> motion_params{0, 0, 0, 0};
 };
 
 /// Space function S(X) of a boundary condition, of the reference position.

@@ -756,7 +756,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             const std::string w = fmt::format("walls[{}]", k);
             check_keys(wj, w,
                        {"name", "type", "point", "normal", "center", "radius", "velocity",
-                        "angular_velocity", "rotation_center", "group"});
+                        "angular_velocity", "rotation_center", "group", "time_function",
+                        "time_parameters"});
             model::Wall wall;
             wall.name = text(wj, w, "name", fmt::format("wall_{}", k));
             const auto type =
@@ -784,6 +785,22 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                     wall.angular_velocity = vec(wj, w, "angular_velocity", 3, {0, 0, 0});
             }
             wall.centre = vec(wj, w, "rotation_center", m.dimension, wall.point);
+            // Motion in time: displacement velocity T(t), angle angular_velocity T(t).
+            const auto tf =
+                text(wj, w, "time_function", "linear",
+                     {"linear", "quadratic", "sine", "linear_step", "linear_slow_fast"});
+            wall.motion = tf == "linear"        ? model::TimeFn::linear
+                          : tf == "quadratic"   ? model::TimeFn::quadratic
+                          : tf == "sine"        ? model::TimeFn::sine
+                          : tf == "linear_step" ? model::TimeFn::linear_step
+                                                : model::TimeFn::linear_slow_fast;
+            if (wj.contains("time_parameters")) {
+                const auto& tp = wj["time_parameters"];
+                if (!tp.is_array() || tp.empty() || tp.size() > 3)
+                    throw ConfigError(w + ".time_parameters", "expected [p1, p2, p3]");
+                for (std::size_t q = 0; q < tp.size(); ++q)
+                    wall.motion_params[q + 1] = tp[q].get<double>();
+            }
             wall.group = static_cast<std::int32_t>(number(wj, w, "group", -1));
             m.walls.push_back(wall);
         }

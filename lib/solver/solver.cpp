@@ -2,6 +2,7 @@
 #include "solver/solver.hpp"
 
 #include "core/errors.hpp"
+#include "model/functions.hpp"
 #include "model/lps.hpp"
 #include "model/pmb.hpp"
 #include "model/rnp.hpp"
@@ -15,41 +16,6 @@
 namespace pd::solver {
 
 namespace {
-
-double time_value(model::TimeFn f, const std::array<double, 4>& p, double t, double* rate) {
-    const double p1 = p[1], p2 = p[2], p3 = p[3];
-    switch (f) {
-    case model::TimeFn::constant:
-        *rate = 0;
-        return 1;
-    case model::TimeFn::linear:
-        *rate = 1;
-        return t;
-    case model::TimeFn::quadratic:
-        *rate = 1 + 2 * p1 * t;
-        return t + p1 * t * t;
-    case model::TimeFn::sine:
-        *rate = M_PI * p1 * std::cos(M_PI * p1 * t);
-        return std::sin(M_PI * p1 * t);
-    case model::TimeFn::rotation:
-        break; // handled by apply_displacements
-    case model::TimeFn::linear_step: {
-        // Staircase (spec 5.7): ramps of duration p1 separated by plateaus of duration p2.
-        const double P = p1 + p2;
-        const double k = std::floor(t / P);
-        if (t < k * P + p1) {
-            *rate = 1;
-            return t - k * p2;
-        }
-        *rate = 0;
-        return (k + 1) * p1;
-    }
-    case model::TimeFn::linear_slow_fast:
-        *rate = t <= p1 ? p2 : p3;
-        return *rate * t;
-    }
-    return 0;
-}
 
 /// `box`: xmin, xmax, ymin, ymax of the condition's nodes (hat functions).
 double space_value(model::SpaceFn f, double p0, const double* X, const std::array<double, 4>& box) {
@@ -378,7 +344,7 @@ void Solver::compute_forces() {
         if (!c.is_force)
             continue;
         double rate = 0;
-        const double T = time_value(c.time_fn, c.params, s_.time, &rate);
+        const double T = model::time_function(c.time_fn, c.params, s_.time, &rate);
         const auto& box = cond_box_[static_cast<std::size_t>(&c - m_.loading.conditions.data())];
         for (auto i : c.nodes) {
             const auto ii = static_cast<std::size_t>(i);
@@ -549,7 +515,7 @@ void Solver::apply_displacements() {
             continue;
         }
         double rate = 0;
-        const double T = time_value(c.time_fn, c.params, t, &rate);
+        const double T = model::time_function(c.time_fn, c.params, t, &rate);
         const auto& box = cond_box_[static_cast<std::size_t>(&c - m_.loading.conditions.data())];
         for (auto i : c.nodes) {
             const auto ii = static_cast<std::size_t>(i);
@@ -766,10 +732,10 @@ double Solver::external_power() const {
         }
     }
     for (std::size_t w = 0; w < m_.walls.size(); ++w) {
-        const auto& wall = m_.walls[w];
+        const auto p = wall_pose(m_.walls[w], s_.time);
         for (std::size_t d = 0; d < 3; ++d)
-            pw -= wall_load_.force[3 * w + d] * wall.velocity[d] +
-                  wall_load_.moment[3 * w + d] * wall.angular_velocity[d];
+            pw -= wall_load_.force[3 * w + d] * p.velocity[d] +
+                  wall_load_.moment[3 * w + d] * p.omega[d];
     }
     return pw;
 }

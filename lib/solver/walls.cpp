@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "solver/walls.hpp"
 
+#include "model/functions.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -53,16 +55,20 @@ double distance(const model::Wall& w, const WallPose& p, const double* x, double
 
 WallPose wall_pose(const model::Wall& w, double t) {
     WallPose p;
-    V3 theta{w.angular_velocity[0] * t, w.angular_velocity[1] * t, w.angular_velocity[2] * t};
+    double rate = 0;
+    const double T = model::time_function(w.motion, w.motion_params, t, &rate);
+    V3 theta{w.angular_velocity[0] * T, w.angular_velocity[1] * T, w.angular_velocity[2] * T};
     for (int d = 0; d < 3; ++d)
-        p.centre[d] = w.centre[d] + w.velocity[d] * t;
+        p.centre[d] = w.centre[d] + w.velocity[d] * T;
     V3 rel{w.point[0] - w.centre[0], w.point[1] - w.centre[1], w.point[2] - w.centre[2]};
     rel = rotate(rel, theta);
     for (int d = 0; d < 3; ++d)
         p.point[d] = p.centre[d] + rel[d];
     p.normal = rotate(w.normal, theta);
-    p.velocity = w.velocity;
-    p.omega = w.angular_velocity;
+    for (int d = 0; d < 3; ++d) {
+        p.velocity[d] = w.velocity[d] * rate;
+        p.omega[d] = w.angular_velocity[d] * rate;
+    }
     return p;
 }
 
@@ -94,15 +100,18 @@ bool WallContact::update(const State& s) {
     if (built_) {
         // Bound on how far any wall surface point near the grains moved since the build.
         double wall_move = 0;
-        const double dt = s.time - t_build_;
         for (const auto& w : walls_) {
+            double rate = 0;
+            const double dT =
+                std::abs(model::time_function(w.motion, w.motion_params, s.time, &rate) -
+                         model::time_function(w.motion, w.motion_params, t_build_, &rate));
             const double v =
                 std::sqrt(w.velocity[0] * w.velocity[0] + w.velocity[1] * w.velocity[1] +
                           w.velocity[2] * w.velocity[2]);
             const double om = std::sqrt(w.angular_velocity[0] * w.angular_velocity[0] +
                                         w.angular_velocity[1] * w.angular_velocity[1] +
                                         w.angular_velocity[2] * w.angular_velocity[2]);
-            wall_move = std::max(wall_move, (v + om * extent_) * dt);
+            wall_move = std::max(wall_move, (v + om * extent_) * dT);
         }
         if (!moved_farther_than(s, x_build_, 0.5 * skin_ - wall_move))
             return false;

@@ -192,8 +192,8 @@ void write_model(h5::File& f, const model::Model& m) {
         const std::string w = path::walls;
         const std::uint64_t nw = m.walls.size();
         std::vector<std::uint8_t> shape;
-        std::vector<std::int32_t> group;
-        std::vector<double> point, normal, radius, vel, omega, centre;
+        std::vector<std::int32_t> group, motion;
+        std::vector<double> point, normal, radius, vel, omega, centre, mparams;
         std::vector<std::string> names;
         for (const auto& x : m.walls) {
             names.push_back(x.name);
@@ -205,6 +205,8 @@ void write_model(h5::File& f, const model::Model& m) {
             vel.insert(vel.end(), x.velocity.begin(), x.velocity.end());
             omega.insert(omega.end(), x.angular_velocity.begin(), x.angular_velocity.end());
             centre.insert(centre.end(), x.centre.begin(), x.centre.end());
+            motion.push_back(static_cast<std::int32_t>(x.motion));
+            mparams.insert(mparams.end(), x.motion_params.begin(), x.motion_params.end());
         }
         f.create_group(w);
         f.set_attr(w, "names", names);
@@ -216,6 +218,8 @@ void write_model(h5::File& f, const model::Model& m) {
         put(f, w + "/velocity", vel, {nw, 3}, "m s-1");
         put(f, w + "/angular_velocity", omega, {nw, 3}, "rad s-1");
         put(f, w + "/centre", centre, {nw, 3}, "m");
+        put(f, w + "/motion", motion, {nw}, "1");
+        put(f, w + "/motion_parameters", mparams, {nw, 4}, "1");
     }
     // Pre-cracks.
     f.remove(path::cracks);
@@ -405,6 +409,16 @@ model::Model read_model(const h5::File& f) {
         auto omega = get<double>(f, w + "/angular_velocity", {nw, 3});
         auto centre = get<double>(f, w + "/centre", {nw, 3});
         require_range<std::uint8_t>(f, w + "/shape", shape, 0, 3);
+        std::vector<std::int32_t> motion(nw, static_cast<std::int32_t>(model::TimeFn::linear));
+        std::vector<double> mparams(4 * nw, 0.0);
+        if (f.exists(w + "/motion")) {
+            motion = get<std::int32_t>(f, w + "/motion", {nw});
+            mparams = get<double>(f, w + "/motion_parameters", {nw, 4});
+            for (auto mo : motion)
+                if (mo < 1 || mo > 6 || mo == 4)
+                    throw SchemaError(f.name(), w + "/motion",
+                                      fmt::format("{} is not a wall motion (1-3, 5, 6)", mo));
+        }
         for (std::size_t k = 0; k < nw; ++k) {
             model::Wall x;
             x.name = fmt::format("wall_{}", k);
@@ -418,6 +432,9 @@ model::Model read_model(const h5::File& f) {
                 x.centre[d] = centre[3 * k + d];
             }
             x.radius = radius[k];
+            x.motion = static_cast<model::TimeFn>(motion[k]);
+            for (std::size_t q = 0; q < 4; ++q)
+                x.motion_params[q] = mparams[4 * k + q];
             const double nn = std::sqrt(x.normal[0] * x.normal[0] + x.normal[1] * x.normal[1] +
                                         x.normal[2] * x.normal[2]);
             if (x.shape == model::WallShape::plane && std::abs(nn - 1) > 1e-9)

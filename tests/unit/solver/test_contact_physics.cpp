@@ -248,3 +248,22 @@ TEST(Conditions, HatAndStaircaseForces) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(Walls, MotionFollowsItsTimeFunction) {
+    // A floor oscillating as y = 1 mm sin(pi 100 t) (velocity [0, 1e-3], sine, p1 = 100).
+    auto m = pipeline::build_scene(
+        scene(R"({"radius": 1e-3, "center": [0, 3e-3], "material": "m1"})",
+              R"("walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1],
+                             "velocity": [0, 1e-3], "time_function": "sine",
+                             "time_parameters": [100]}])"),
+        "t", quiet);
+    for (double t : {0.0, 1e-3, 2.5e-3, 7e-3}) {
+        const auto p = solver::wall_pose(m.walls[0], t);
+        EXPECT_NEAR(p.point[1], 1e-3 * std::sin(M_PI * 100 * t), 1e-15);
+        EXPECT_NEAR(p.velocity[1], 1e-3 * M_PI * 100 * std::cos(M_PI * 100 * t), 1e-12);
+    }
+}
+
+} // namespace
