@@ -1111,11 +1111,12 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         for (const auto& x : sv["fields"]) {
             const std::string n = x.is_string() ? x.get<std::string>() : "";
             if (n != "velocity" && n != "displacement" && n != "force" && n != "damage" &&
-                n != "damage_z")
-                throw ConfigError("solver.fields", "'" + x.dump() +
-                                                       "' is not one of velocity, "
-                                                       "displacement, force, damage, damage_z "
-                                                       "(position is always written)");
+                n != "damage_z" && n != "fragment")
+                throw ConfigError("solver.fields",
+                                  "'" + x.dump() +
+                                      "' is not one of velocity, "
+                                      "displacement, force, damage, damage_z, fragment "
+                                      "(position is always written)");
             S.fields.push_back(n);
         }
     }

@@ -90,7 +90,7 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
     };
     if (!has("position"))
         throw SchemaError(f.name(), particles + "/position", "missing (no positions)");
-    const bool has_v = has("velocity"), has_phi = has("damage");
+    const bool has_v = has("velocity"), has_phi = has("damage"), has_frag = has("fragment");
 
     // Reference centres (volume-weighted: the density is uniform within a body).
     std::vector<double> vol(nb, 0), c0(3 * nb, 0);
@@ -122,11 +122,13 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
     const std::string note = fmt::format(
         "# pd-post grains.csv from {}; volume-weighted centre of mass (m) and its velocity "
         "(m s-1); rotation (rad) of the best rigid fit of current vs reference positions "
-        "({}); damage = sum(V phi)/sum(V); broken_bonds, fragments: exact from "
-        "/checkpoints bond_alive {}, empty elsewhere; broken_bonds_est = sum(phi_i "
+        "({}); damage = sum(V phi)/sum(V); fragments: distinct fragment ids of the frame "
+        "(connected components of intact bonds, written by pd-solve){}; broken_bonds: exact "
+        "from /checkpoints bond_alive {}, empty elsewhere; broken_bonds_est = sum(phi_i "
         "deg_i)/2, from damage\n",
         f.name(),
         m.dimension == 2 ? "2D Procrustes angle, unwrapped in time" : "3D Kabsch angle in [0, pi]",
+        has_frag ? "" : " (no fragment field in this file: from the checkpoint only)",
         ckpt ? fmt::format("at step {}", ckpt->step) : std::string("(no checkpoint)"));
     fmt::print(out.get(), "step,time,body,com_x,com_y,com_z,vcom_x,vcom_y,vcom_z,rotation,"
                           "damage,broken_bonds,fragments,broken_bonds_est\n");
@@ -144,6 +146,7 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
                                           "wrong length (n = {})",
                                           k, n));
         const bool at_ckpt = exact && ckpt->step == frames.step(k);
+        const auto frag = has_frag ? frames.read("fragment", k) : std::vector<double>{};
         for (std::size_t b = 0; b < nb; ++b) {
             const auto lo = m.bodies.node_offsets[b], hi = m.bodies.node_offsets[b + 1];
             double c[3] = {0, 0, 0}, vc[3] = {0, 0, 0}, dmg = 0, est = 0;
@@ -188,8 +191,14 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
                           : std::string(",,,");
             line += fmt::format("{:.17g},", angle);
             line += has_phi ? fmt::format("{:.17g},", dmg / wb) : std::string(",");
-            line += at_ckpt ? fmt::format("{},{},", exact->broken[b], exact->fragments[b])
-                            : std::string(",,");
+            line += at_ckpt ? fmt::format("{},", exact->broken[b]) : std::string(",");
+            if (has_frag) {
+                std::vector<double> ids(frag.begin() + lo, frag.begin() + hi);
+                std::sort(ids.begin(), ids.end());
+                line += fmt::format("{},", std::unique(ids.begin(), ids.end()) - ids.begin());
+            } else {
+                line += at_ckpt ? fmt::format("{},", exact->fragments[b]) : std::string(",");
+            }
             line += has_phi ? fmt::format("{:.17g}\n", est / 2) : std::string("\n");
             if (std::fputs(line.c_str(), out.get()) < 0)
                 throw InputError(fmt::format("{}: write failed (disk full?)", csv_path));

@@ -772,6 +772,32 @@ void Solver::damage(std::vector<double>& phi) const {
     damage_phi(s_, b_, phi);
 }
 
+void Solver::fragments(std::vector<double>& id) const {
+    std::vector<index_t> parent(s_.n);
+    for (std::size_t i = 0; i < s_.n; ++i)
+        parent[i] = static_cast<index_t>(i);
+    auto find = [&](index_t a) {
+        while (parent[static_cast<std::size_t>(a)] != a) {
+            auto& p = parent[static_cast<std::size_t>(a)];
+            p = parent[static_cast<std::size_t>(p)]; // path halving
+            a = p;
+        }
+        return a;
+    };
+    for (std::size_t i = 0; i < s_.n; ++i)
+        for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            if (!b_.alive[kk])
+                continue;
+            const index_t a = find(static_cast<index_t>(i)), b = find(b_.neighbor[kk]);
+            if (a != b) // the smaller index becomes the root
+                parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+        }
+    id.resize(s_.n);
+    for (std::size_t i = 0; i < s_.n; ++i)
+        id[i] = static_cast<double>(find(static_cast<index_t>(i)));
+}
+
 void Solver::damage_z(std::vector<double>& z) const {
     z.assign(s_.n, 0.0);
     const auto n = static_cast<std::int64_t>(s_.n);

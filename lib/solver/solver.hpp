@@ -61,6 +61,9 @@ class Solver {
     /// Damage_Z per node (spec 3): max over all bonds, broken or not, of |s| / s0 (RNP:
     /// |S| / S_c(r)); >= 1 where a bond has reached its critical stretch. 0 if unbreakable.
     void damage_z(std::vector<double>& z) const;
+    /// Fragment id per node: the smallest node index of its connected component of intact
+    /// bonds (a grain that broke in two has two ids). Exact for every frame.
+    void fragments(std::vector<double>& id) const;
     /// phi per node.
     void damage(std::vector<double>& phi) const;
     /// Nodal force f V (N) per node, 3 per node.
