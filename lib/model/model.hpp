@@ -184,8 +184,8 @@ struct SolverSettings {
     double contact_skin = 0;         ///< m; 0 = automatic (the largest contact radius)
     bool surface_correction = false; ///< PMB isotropic surface correction (opt-in, see solver)
     /// Nodal fields written in frames besides position (only these are computed at frames).
-    std::vector<std::string> fields{"velocity", "displacement", "force",
-                                    "damage",   "damage_z",     "fragment"};
+    std::vector<std::string> fields{"velocity", "displacement", "force",       "damage",
+                                    "damage_z", "fragment",     "broken_bonds"};
 };
 
 /// Everything pd-pack writes and pd-solve reads.

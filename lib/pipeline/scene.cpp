@@ -1111,12 +1111,13 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         for (const auto& x : sv["fields"]) {
             const std::string n = x.is_string() ? x.get<std::string>() : "";
             if (n != "velocity" && n != "displacement" && n != "force" && n != "damage" &&
-                n != "damage_z" && n != "fragment")
-                throw ConfigError("solver.fields",
-                                  "'" + x.dump() +
-                                      "' is not one of velocity, "
-                                      "displacement, force, damage, damage_z, fragment "
-                                      "(position is always written)");
+                n != "damage_z" && n != "fragment" && n != "broken_bonds")
+                throw ConfigError(
+                    "solver.fields",
+                    "'" + x.dump() +
+                        "' is not one of velocity, "
+                        "displacement, force, damage, damage_z, fragment, broken_bonds "
+                        "(position is always written)");
             S.fields.push_back(n);
         }
     }

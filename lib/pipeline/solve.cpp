@@ -23,7 +23,7 @@ namespace {
 
 void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<double>& damage,
                  std::vector<double>& force) {
-    thread_local std::vector<double> damage_z, fragment;
+    thread_local std::vector<double> damage_z, fragment, broken;
     // Only the requested fields are computed.
     const auto& st = s.state();
     std::map<std::string, std::span<const double>> data;
@@ -39,6 +39,9 @@ void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<do
         } else if (name == "damage") {
             s.damage(damage);
             data[name] = damage;
+        } else if (name == "broken_bonds") {
+            s.broken_per_node(broken);
+            data[name] = broken;
         } else if (name == "fragment") {
             s.fragments(fragment);
             data[name] = fragment;

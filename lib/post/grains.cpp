@@ -90,7 +90,8 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
     };
     if (!has("position"))
         throw SchemaError(f.name(), particles + "/position", "missing (no positions)");
-    const bool has_v = has("velocity"), has_phi = has("damage"), has_frag = has("fragment");
+    const bool has_v = has("velocity"), has_phi = has("damage"), has_frag = has("fragment"),
+               has_broken = has("broken_bonds");
 
     // Reference centres (volume-weighted: the density is uniform within a body).
     std::vector<double> vol(nb, 0), c0(3 * nb, 0);
@@ -123,8 +124,9 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
         "# pd-post grains.csv from {}; volume-weighted centre of mass (m) and its velocity "
         "(m s-1); rotation (rad) of the best rigid fit of current vs reference positions "
         "({}); damage = sum(V phi)/sum(V); fragments: distinct fragment ids of the frame "
-        "(connected components of intact bonds, written by pd-solve){}; broken_bonds: exact "
-        "from /checkpoints bond_alive {}, empty elsewhere; broken_bonds_est = sum(phi_i "
+        "(connected components of intact bonds, written by pd-solve){}; broken_bonds: half the "
+        "sum of the broken_bonds frame field (else exact from /checkpoints bond_alive {} only); "
+        "broken_bonds_est = sum(phi_i "
         "deg_i)/2, from damage\n",
         f.name(),
         m.dimension == 2 ? "2D Procrustes angle, unwrapped in time" : "3D Kabsch angle in [0, pi]",
@@ -147,6 +149,7 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
                                           k, n));
         const bool at_ckpt = exact && ckpt->step == frames.step(k);
         const auto frag = has_frag ? frames.read("fragment", k) : std::vector<double>{};
+        const auto brk = has_broken ? frames.read("broken_bonds", k) : std::vector<double>{};
         for (std::size_t b = 0; b < nb; ++b) {
             const auto lo = m.bodies.node_offsets[b], hi = m.bodies.node_offsets[b + 1];
             double c[3] = {0, 0, 0}, vc[3] = {0, 0, 0}, dmg = 0, est = 0;
@@ -191,7 +194,14 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
                           : std::string(",,,");
             line += fmt::format("{:.17g},", angle);
             line += has_phi ? fmt::format("{:.17g},", dmg / wb) : std::string(",");
-            line += at_ckpt ? fmt::format("{},", exact->broken[b]) : std::string(",");
+            if (has_broken) {
+                double nb2 = 0;
+                for (auto i = lo; i < hi; ++i)
+                    nb2 += brk[static_cast<std::size_t>(i)];
+                line += fmt::format("{},", static_cast<std::int64_t>(nb2 / 2));
+            } else {
+                line += at_ckpt ? fmt::format("{},", exact->broken[b]) : std::string(",");
+            }
             if (has_frag) {
                 std::vector<double> ids(frag.begin() + lo, frag.begin() + hi);
                 std::sort(ids.begin(), ids.end());

@@ -772,6 +772,13 @@ void Solver::damage(std::vector<double>& phi) const {
     damage_phi(s_, b_, phi);
 }
 
+void Solver::broken_per_node(std::vector<double>& count) const {
+    count.assign(s_.n, 0.0);
+    for (std::size_t i = 0; i < s_.n; ++i)
+        for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k)
+            count[i] += b_.alive[static_cast<std::size_t>(k)] ? 0.0 : 1.0;
+}
+
 void Solver::fragments(std::vector<double>& id) const {
     std::vector<index_t> parent(s_.n);
     for (std::size_t i = 0; i < s_.n; ++i)

@@ -64,6 +64,8 @@ class Solver {
     /// Fragment id per node: the smallest node index of its connected component of intact
     /// bonds (a grain that broke in two has two ids). Exact for every frame.
     void fragments(std::vector<double>& id) const;
+    /// Number of broken bonds of each node (each broken pair counts at both ends).
+    void broken_per_node(std::vector<double>& count) const;
     /// phi per node.
     void damage(std::vector<double>& phi) const;
     /// Nodal force f V (N) per node, 3 per node.

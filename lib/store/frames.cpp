@@ -19,9 +19,10 @@ std::string field_path(const std::string& field) {
 } // namespace
 
 const std::vector<FieldInfo>& frame_fields() {
-    static const std::vector<FieldInfo> f{
-        {"position", 3, "m"}, {"velocity", 3, "m s-1"}, {"displacement", 3, "m"}, {"force", 3, "N"},
-        {"damage", 1, "1"},   {"damage_z", 1, "1"},     {"fragment", 1, "1"}};
+    static const std::vector<FieldInfo> f{{"position", 3, "m"},     {"velocity", 3, "m s-1"},
+                                          {"displacement", 3, "m"}, {"force", 3, "N"},
+                                          {"damage", 1, "1"},       {"damage_z", 1, "1"},
+                                          {"fragment", 1, "1"},     {"broken_bonds", 1, "1"}};
     return f;
 }
 
@@ -39,7 +40,7 @@ static const FieldInfo& field_info(const std::string& name) {
             return fi;
     throw InputError("unknown frame field '" + name +
                      "' (known: position, velocity, "
-                     "displacement, force, damage, damage_z, fragment)");
+                     "displacement, force, damage, damage_z, fragment, broken_bonds)");
 }
 
 void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& species,

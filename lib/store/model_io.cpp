@@ -508,7 +508,7 @@ model::Model read_model(const h5::File& f) {
                 b = fl.size();
             const auto x = fl.substr(a, b - a);
             if (x != "velocity" && x != "displacement" && x != "force" && x != "damage" &&
-                x != "damage_z" && x != "fragment")
+                x != "damage_z" && x != "fragment" && x != "broken_bonds")
                 throw SchemaError(f.name(), s, "fields: '" + x + "' is not a frame field");
             S.fields.push_back(x);
             a = b + 1;

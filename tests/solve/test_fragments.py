@@ -42,7 +42,11 @@ def test_a_cut_disc_is_two_fragments(tmp_path):
     rows = [l for l in (out / "grains.csv").read_text().splitlines()
             if l and not l.startswith("#")]
     head = rows[0].split(",")
-    body, frags = head.index("body"), head.index("fragments")
+    body, frags, broken = head.index("body"), head.index("fragments"), head.index("broken_bonds")
+    with h5py.File(f, "r") as h:
+        cut = int(h["observables/broken_bonds/value"][-1])  # all in disc 0 (the pre-crack)
+    assert cut > 0
     for r in rows[1:]:
         c = r.split(",")
         assert int(c[frags]) == (2 if c[body] == "0" else 1)
+        assert int(c[broken]) == (cut if c[body] == "0" else 0)
