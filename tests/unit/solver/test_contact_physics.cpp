@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace {
 
@@ -107,6 +108,7 @@ TEST_P(Restitution, DiscOnDisc) {
     const double sep = ((v1[0] - v0[0]) * nx + (v1[1] - v0[1]) * ny) / nn;
     // Approach speed along the same line: the initial relative velocity (-0.8, 0) projected.
     const double app = 0.8 * nx / nn;
+    std::printf("[ disc-disc ] eps %.2f measured %.4f\n", eps, sep / app);
     EXPECT_NEAR(sep / app, eps, 0.05 * eps);
     const auto c1 = s.observe();
     EXPECT_NEAR(c1.momentum[0], c0.momentum[0], 1e-12 * std::abs(c0.momentum[0]));
