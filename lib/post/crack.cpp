@@ -5,6 +5,7 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "post/text_out.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
 
@@ -96,10 +97,7 @@ std::size_t write_crack_csv(const h5::File& f, const CrackOptions& opt, const st
             progress("crack", k + 1, t);
     }
 
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(csv_path.c_str(), "w"),
-                                                        &std::fclose);
-    if (!out)
-        throw InputError(fmt::format("{}: cannot open for writing", csv_path));
+    auto out = open_output(csv_path);
     fmt::print(out.get(), "step,time,damaged_nodes,tip_length,tip_x,tip_y,tip_z,speed,angle_deg\n");
     const int w = opt.half_window;
     std::string line;

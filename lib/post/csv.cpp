@@ -4,6 +4,7 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "post/text_out.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
 
@@ -81,10 +82,7 @@ std::size_t write_observables_csv(const h5::File& f, const std::string& csv_path
         add_columns(header, name, s.components, !standard);
     }
 
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(csv_path.c_str(), "w"),
-                                                        &std::fclose);
-    if (!out)
-        throw InputError(fmt::format("{}: cannot open for writing", csv_path));
+    auto out = open_output(csv_path);
     fmt::print(out.get(), "{}\n", header);
     std::string line;
     for (std::size_t r = 0; r < rows; ++r) {

@@ -6,6 +6,7 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "post/text_out.hpp"
 #include "store/checkpoint_io.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
@@ -114,10 +115,7 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
     if (ckpt)
         exact = bond_state(m, ckpt->alive);
 
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(csv_path.c_str(), "w"),
-                                                        &std::fclose);
-    if (!out)
-        throw InputError(fmt::format("{}: cannot open for writing", csv_path));
+    auto out = open_output(csv_path);
     // The method is stated in a comment line after the table: numpy's genfromtxt(names=True)
     // would take a leading comment line for the header.
     const std::string note = fmt::format(

@@ -5,6 +5,7 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "post/text_out.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
 
@@ -30,29 +31,6 @@ namespace pd::post {
 
 namespace {
 
-std::string xml_escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-        case '&':
-            out += "&amp;";
-            break;
-        case '<':
-            out += "&lt;";
-            break;
-        case '>':
-            out += "&gt;";
-            break;
-        case '"':
-            out += "&quot;";
-            break;
-        default:
-            out += c;
-        }
-    }
-    return out;
-}
-
 /// One VTK_VERTEX cell per point: meshio rejects a .vtu without cells (environment notes B.5).
 void set_vertex_cells(vtkUnstructuredGrid* grid, vtkIdType n) {
     vtkNew<vtkIdTypeArray> offsets;
@@ -70,10 +48,7 @@ void set_vertex_cells(vtkUnstructuredGrid* grid, vtkIdType n) {
 }
 
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& items) {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(path.c_str(), "w"),
-                                                        &std::fclose);
-    if (!out)
-        throw InputError(fmt::format("{}: cannot open for writing", path));
+    auto out = open_output(path);
     std::string s = "<?xml version=\"1.0\"?>\n"
                     "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
                     "  <Collection>\n";

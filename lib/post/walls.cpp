@@ -4,6 +4,7 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "post/text_out.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
 
@@ -48,10 +49,7 @@ std::size_t write_walls_csv(const h5::File& f, const model::Model& m, const std:
                 header += fmt::format(",wall_{}_stress_{}", k, a);
     }
 
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(csv_path.c_str(), "w"),
-                                                        &std::fclose);
-    if (!out)
-        throw InputError(fmt::format("{}: cannot open for writing", csv_path));
+    auto out = open_output(csv_path);
     fmt::print(out.get(), "{}\n", header);
     std::string line;
     for (std::size_t r = 0; r < force->step.size(); ++r) {

@@ -4,6 +4,7 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "post/text_out.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
 
@@ -16,29 +17,6 @@
 namespace pd::post {
 
 namespace {
-
-std::string xml_escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-        case '&':
-            out += "&amp;";
-            break;
-        case '<':
-            out += "&lt;";
-            break;
-        case '>':
-            out += "&gt;";
-            break;
-        case '"':
-            out += "&quot;";
-            break;
-        default:
-            out += c;
-        }
-    }
-    return out;
-}
 
 /// A HyperSlab DataItem selecting frame k of a (T, N[, 3]) dataset.
 std::string hyperslab(std::size_t k, std::size_t frames, std::size_t n, int components,
@@ -70,10 +48,7 @@ std::size_t write_xdmf(const h5::File& f, const std::string& xmf_path, const std
     const std::string nodes = store::path::nodes;
     const bool has_body = f.exists(nodes + "/body"), has_volume = f.exists(nodes + "/volume");
 
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(xmf_path.c_str(), "w"),
-                                                        &std::fclose);
-    if (!out)
-        throw InputError(fmt::format("{}: cannot open for writing", xmf_path));
+    auto out = open_output(xmf_path);
     // Written frame by frame: the text does not accumulate in memory.
     const auto put = [&](const std::string& text) {
         if (std::fputs(text.c_str(), out.get()) < 0)

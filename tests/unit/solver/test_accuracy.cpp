@@ -4,6 +4,7 @@
 // plate breaking from the notch tip, Coulomb friction on an incline (stick below tan = mu, slide
 // above with the analytic acceleration), restitution of a non-circular grain, and a 3D
 // two-sphere collision.
+#include "body_means.hpp"
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
 #include "solver/solver.hpp"
@@ -19,22 +20,7 @@ using namespace pd;
 
 const Log quiet("test", 0, Verbosity::quiet);
 
-/// Mass-weighted mean of a nodal vector field over body b.
-std::array<double, 3> com(const model::Model& m, const solver::State& s, std::size_t b,
-                          const std::vector<double>& field) {
-    std::array<double, 3> p{0, 0, 0};
-    double mass = 0;
-    for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
-        const auto ii = static_cast<std::size_t>(i);
-        const double mi = s.rho[ii] * s.vol[ii];
-        mass += mi;
-        for (std::size_t d = 0; d < 3; ++d)
-            p[d] += mi * field[3 * ii + d];
-    }
-    for (double& x : p)
-        x /= mass;
-    return p;
-}
+using test::com;
 
 /// Relative error of the interior strain of a plate L x W under uniaxial stress sigma, pulled by
 /// a force density on its right band and held on its left band, relaxed to equilibrium.

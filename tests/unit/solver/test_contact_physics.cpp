@@ -3,6 +3,7 @@
 // a rigid wall and grain on grain), a disc resting on a rigid wall under gravity loads it with
 // its weight, an elastic collision leaves no damage, and conditions move and push nodes as
 // prescribed.
+#include "body_means.hpp"
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
 #include "solver/solver.hpp"
@@ -26,20 +27,8 @@ std::string scene(const std::string& particles, const std::string& rest) {
            particles + "], " + rest + R"(, "solver": {"final_time": 1}})";
 }
 
-/// Mass-weighted mean velocity of body b.
 std::array<double, 3> com_velocity(const model::Model& m, const solver::State& s, std::size_t b) {
-    std::array<double, 3> p{0, 0, 0};
-    double mass = 0;
-    for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
-        const auto ii = static_cast<std::size_t>(i);
-        const double mi = s.rho[ii] * s.vol[ii];
-        mass += mi;
-        for (std::size_t d = 0; d < 3; ++d)
-            p[d] += mi * s.v[3 * ii + d];
-    }
-    for (double& x : p)
-        x /= mass;
-    return p;
+    return test::com(m, s, b, s.v);
 }
 
 void run_until_separated(solver::Solver& s, int max_steps) {
@@ -88,20 +77,7 @@ TEST_P(Restitution, DiscOnDisc) {
     const auto c0 = s.observe();
     run_until_separated(s, 40000);
     // Relative velocity along the line of centres, before (0.8 m/s closing) and after.
-    auto centre = [&](std::size_t b) {
-        std::array<double, 3> c{0, 0, 0};
-        double mass = 0;
-        const auto& st = s.state();
-        for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
-            const auto ii = static_cast<std::size_t>(i);
-            mass += st.rho[ii] * st.vol[ii];
-            for (std::size_t d = 0; d < 3; ++d)
-                c[d] += st.rho[ii] * st.vol[ii] * st.x[3 * ii + d];
-        }
-        for (double& x : c)
-            x /= mass;
-        return c;
-    };
+    auto centre = [&](std::size_t b) { return test::com(m, s.state(), b, s.state().x); };
     const auto x0 = centre(0), x1 = centre(1);
     const double nx = x1[0] - x0[0], ny = x1[1] - x0[1], nn = std::hypot(nx, ny);
     const auto v0 = com_velocity(m, s.state(), 0), v1 = com_velocity(m, s.state(), 1);
