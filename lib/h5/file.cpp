@@ -132,6 +132,8 @@ File::File(const std::string& name, Mode mode, const void* mpi_comm)
         if (H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL) < 0)
             fail("/", "cannot set the MPI-IO driver");
         H5Pset_dxpl_mpio(xfer_.get(), H5FD_MPIO_COLLECTIVE);
+        parallel_ = true;
+        MPI_Comm_rank(comm, &rank_);
     }
     hid_t id = -1;
     if (mode == Mode::create_truncate) {
@@ -291,8 +293,80 @@ void File::write(const std::string& path, std::span<const T> data, const dims_t&
                         H5P_DEFAULT));
     if (!d.valid())
         fail(path, "cannot create dataset");
-    if (!data.empty() &&
-        H5Dwrite(d.get(), native<T>(), H5S_ALL, H5S_ALL, xfer_.get(), data.data()) < 0)
+    if (data.empty())
+        return;
+    Handle fs(H5Dget_space(d.get())),
+        ms(H5Screate_simple(static_cast<int>(h.size()), h.data(), nullptr));
+    if (parallel_ && rank_ != 0) { // rank 0 writes, the others take part
+        H5Sselect_none(fs.get());
+        H5Sselect_none(ms.get());
+    }
+    if (H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), data.data()) < 0)
+        fail(path, "write failed");
+}
+
+namespace {
+/// Selects rows `runs` of axis `axis` (earlier axes at `lead`, later ones whole) in `space`.
+void select_runs(hid_t space, const runs_t& runs, const std::vector<hsize_t>& lead) {
+    const int rank = H5Sget_simple_extent_ndims(space);
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    H5Sselect_none(space);
+    std::vector<hsize_t> start(dims.size(), 0), count = dims;
+    for (std::size_t a = 0; a < lead.size(); ++a) {
+        start[a] = lead[a];
+        count[a] = 1;
+    }
+    const std::size_t axis = lead.size();
+    for (const auto& r : runs) {
+        if (r[1] <= r[0])
+            continue;
+        start[axis] = r[0];
+        count[axis] = r[1] - r[0];
+        H5Sselect_hyperslab(space, H5S_SELECT_OR, start.data(), nullptr, count.data(), nullptr);
+    }
+}
+} // namespace
+
+template <Element T>
+void File::write_runs(const std::string& path, std::span<const T> full, const dims_t& dims,
+                      const runs_t& runs) {
+    if (product(dims) != full.size())
+        throw InternalError(fmt::format("{}: {}: {} values for shape of {}", name_, path,
+                                        full.size(), product(dims)));
+    ensure_parent(path);
+    remove(path);
+    auto h = to_h(dims);
+    Handle fs(H5Screate_simple(static_cast<int>(h.size()), h.data(), nullptr));
+    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), fs.get(), H5P_DEFAULT, H5P_DEFAULT,
+                        H5P_DEFAULT));
+    if (!d.valid())
+        fail(path, "cannot create dataset");
+    if (full.empty())
+        return;
+    Handle ms(H5Screate_simple(static_cast<int>(h.size()), h.data(), nullptr));
+    select_runs(fs.get(), runs, {});
+    select_runs(ms.get(), runs, {});
+    if (H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), full.data()) < 0)
+        fail(path, "write failed");
+}
+
+template <Element T>
+void File::append_runs(const std::string& path, std::span<const T> full, const runs_t& runs) {
+    auto sh = shape(path);
+    const std::uint64_t row = sh[0];
+    resize_rows(path, row + 1);
+    Handle d = open_dataset(path);
+    dims_t inner(sh.begin() + 1, sh.end());
+    if (product(inner) != full.size())
+        throw InternalError(fmt::format("{}: {}: {} values for an entry of {}", name_, path,
+                                        full.size(), product(inner)));
+    auto hi = to_h(inner);
+    Handle fs(H5Dget_space(d.get()));
+    Handle ms(H5Screate_simple(static_cast<int>(hi.size()), hi.data(), nullptr));
+    select_runs(fs.get(), runs, {row});
+    select_runs(ms.get(), runs, {});
+    if (H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), full.data()) < 0)
         fail(path, "write failed");
 }
 
@@ -303,7 +377,12 @@ void File::write_scalar(const std::string& path, T value) {
     Handle space(H5Screate(H5S_SCALAR));
     Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
                         H5P_DEFAULT));
-    if (!d.valid() || H5Dwrite(d.get(), native<T>(), H5S_ALL, H5S_ALL, xfer_.get(), &value) < 0)
+    Handle fs(H5Screate(H5S_SCALAR)), ms(H5Screate(H5S_SCALAR));
+    if (parallel_ && rank_ != 0) {
+        H5Sselect_none(fs.get());
+        H5Sselect_none(ms.get());
+    }
+    if (!d.valid() || H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), &value) < 0)
         fail(path, "cannot write scalar");
 }
 
@@ -438,6 +517,10 @@ void File::write_rows(const std::string& path, std::span<const T> data, std::uin
     Handle fs(H5Dget_space(d.get()));
     H5Sselect_hyperslab(fs.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
     Handle ms(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
+    if (parallel_ && rank_ != 0) {
+        H5Sselect_none(fs.get());
+        H5Sselect_none(ms.get());
+    }
     if (H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), data.data()) < 0)
         fail(path, "write failed");
 }
@@ -579,6 +662,9 @@ std::vector<std::string> File::attr_names(const std::string& path) const {
 #define PD_H5_INSTANTIATE(T)                                                                       \
     template void File::write<T>(const std::string&, std::span<const T>, const dims_t&);           \
     template void File::write_scalar<T>(const std::string&, T);                                    \
+    template void File::write_runs<T>(const std::string&, std::span<const T>, const dims_t&,       \
+                                      const runs_t&);                                              \
+    template void File::append_runs<T>(const std::string&, std::span<const T>, const runs_t&);     \
     template std::vector<T> File::read<T>(const std::string&, dims_t*) const;                      \
     template T File::read_scalar<T>(const std::string&) const;                                     \
     template std::vector<T> File::read_rows<T>(const std::string&, std::uint64_t, std::uint64_t)   \

@@ -6,6 +6,7 @@
 
 #include "core/errors.hpp"
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -15,6 +16,8 @@ namespace pd::h5 {
 
 using hid = std::int64_t; // hid_t without the HDF5 header
 using dims_t = std::vector<std::uint64_t>;
+/// Runs [begin, end) of rows: what one MPI rank writes of a node-indexed dataset.
+using runs_t = std::vector<std::array<std::uint64_t, 2>>;
 
 /// A failed HDF5 operation (unreadable or truncated file, missing object, full disk).
 class Error : public InputError {
@@ -52,6 +55,8 @@ concept Element = std::same_as<T, double> || std::same_as<T, float> ||
     std::same_as<T, std::uint8_t> || std::same_as<T, std::uint64_t>;
 
 /// Open HDF5 file. Paths are absolute ("/nodes/volume"); parents are created on write.
+/// Under MPI-IO every call is collective (every rank makes it, with the same arguments); the
+/// whole-dataset writes take rank 0's data, the *_runs writes each rank's own rows.
 class File {
   public:
     /// Opens or creates `name`. With `mpi_comm` != nullptr (an MPI_Comm*), uses the MPI-IO
@@ -62,6 +67,7 @@ class File {
     ~File() = default;
 
     const std::string& name() const { return name_; }
+    bool parallel() const { return parallel_; }
     void flush();
 
     // ---- structure
@@ -111,6 +117,15 @@ class File {
     void append(const std::string& path, std::span<const T> data, std::uint64_t rows);
     /// Shrinks or grows axis 0 of an extendible dataset to `rows`.
     void resize_rows(const std::string& path, std::uint64_t rows);
+    /// Creates a dataset of shape `dims` (axis 0 indexes rows, e.g. nodes) and writes the rows
+    /// of `runs` from `full`, which holds all rows (only those of `runs` are read).
+    template <Element T>
+    void write_runs(const std::string& path, std::span<const T> full, const dims_t& dims,
+                    const runs_t& runs);
+    /// Appends one entry along axis 0 of an extendible dataset (entries, rows, inner...) and
+    /// writes the rows of `runs` of it from `full` (rows x inner values).
+    template <Element T>
+    void append_runs(const std::string& path, std::span<const T> full, const runs_t& runs);
     /// Overwrites rows [row0, row0+rows) of an existing dataset.
     template <Element T>
     void write_rows(const std::string& path, std::span<const T> data, std::uint64_t row0,
@@ -142,6 +157,8 @@ class File {
     [[noreturn]] void fail(const std::string& path, const std::string& what) const;
 
     std::string name_;
+    bool parallel_ = false;
+    int rank_ = 0;
     Handle id_;
     Handle xfer_; ///< dataset transfer plist (collective under MPI-IO)
 };

@@ -4,6 +4,7 @@
 #include "core/errors.hpp"
 #include "core/timer.hpp"
 #include "h5/file.hpp"
+#include "pipeline/partition.hpp"
 #include "solver/solver.hpp"
 #include "store/checkpoint_io.hpp"
 #include "store/frames.hpp"
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <span>
 
@@ -71,26 +73,72 @@ std::vector<double> observable_row(const solver::Observables& o) {
 } // namespace
 
 void solve(const SolveOptions& opt, Context& ctx) {
-    if (ctx.size > 1)
-        throw InputError(fmt::format("{}: pd-solve runs on one MPI rank in this version (threads: "
-                                     "OMP_NUM_THREADS); distributed runs come with issue #5. "
-                                     "Run it without mpirun -n {}",
-                                     opt.file, ctx.size));
     const double wall0 = wall_seconds();
-    auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
-    model::Model m = store::read_model(*f); // refuses a file it cannot read, untouched
-    ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
+    const bool par = ctx.size > 1;
+    MPI_Comm comm = MPI_COMM_WORLD;
+    // Phase 1, every rank: read the model (and the checkpoint) read-only.
+    model::Model m;
+    std::optional<store::Checkpoint> ck;
+    std::optional<store::Partition> part;
+    {
+        h5::File rf(opt.file, h5::Mode::read);
+        m = store::read_model(rf); // refuses a file it cannot read, untouched
+        if (opt.restart) {
+            ck = store::read_latest_checkpoint(rf, m.nodes.num(), m.bonds.num());
+            if (!ck)
+                throw InputError(fmt::format("{}: /checkpoints: no checkpoint to restart from "
+                                             "(run pd-solve without --restart first)",
+                                             opt.file));
+        }
+        if (par && rf.exists(store::path::partition)) {
+            const auto by = rf.attr_string(store::path::partition, "by");
+            auto p = store::read_partition(rf, by == "node" ? m.nodes.num() : m.bodies.num());
+            if (p.num_parts == ctx.size)
+                part = std::move(p);
+        }
+    }
+    // Provenance: by rank 0 alone, once the run's (parallel) file is closed.
+    ctx.on_exit = [&ctx, file = opt.file](int code) {
+        if (ctx.rank != 0)
+            return;
+        h5::File f(file, h5::Mode::read_write);
+        store::append_provenance(f, ctx.run, code);
+    };
     if (opt.final_time > 0)
         m.solver.final_time = opt.final_time;
 
-    solver::Solver s(m);
-    std::optional<store::Checkpoint> ck;
-    if (opt.restart) {
-        ck = store::read_latest_checkpoint(*f, m.nodes.num(), m.bonds.num());
-        if (!ck)
-            throw InputError(fmt::format("{}: /checkpoints: no checkpoint to restart from (run "
-                                         "pd-solve without --restart first)",
-                                         opt.file));
+    // The ranks' nodes: /partition if it was made for this rank count, else a new one.
+    std::unique_ptr<solver::Domain> dom;
+    if (par) {
+        if (!part) {
+            std::vector<std::int32_t> owner;
+            if (ctx.rank == 0) // METIS once, the same partition for every rank
+                owner = node_owner(m, make_partition(m, ctx.size, "auto", opt.file));
+            owner.resize(m.nodes.num());
+            MPI_Bcast(owner.data(), static_cast<int>(owner.size()), MPI_INT32_T, 0, comm);
+            dom = std::make_unique<solver::Domain>(comm, std::move(owner));
+            ctx.log.info("/partition is missing or made for another rank count: partitioned "
+                         "anew for {} ranks",
+                         ctx.size);
+        } else {
+            dom = std::make_unique<solver::Domain>(comm, node_owner(m, *part));
+            ctx.log.info("/partition: {} parts by {} (edge cut {}, imbalance {:.3f})",
+                         part->num_parts, part->by, part->edge_cut, part->imbalance);
+        }
+    }
+    solver::Solver s(m, dom.get());
+    const auto& domain = s.domain();
+    if (par) {
+        // Work per rank: bonds plus nodes of the owned rows.
+        double work = 0;
+        for (auto i : domain.rows())
+            work += 1.0 + static_cast<double>(m.bonds.offsets[static_cast<std::size_t>(i) + 1] -
+                                              m.bonds.offsets[static_cast<std::size_t>(i)]);
+        const double mean = domain.sum(work) / ctx.size;
+        ctx.log.info("{} ranks: bond work imbalance (max/mean) {:.3f}; ghosts on rank 0: {} "
+                     "nodes from {} neighbour ranks",
+                     ctx.size, domain.max(work) / mean, domain.num_ghosts(),
+                     domain.num_neighbours());
     }
     const auto est = s.stable_dt();
     double dt = m.solver.dt;
@@ -144,132 +192,187 @@ void solve(const SolveOptions& opt, Context& ctx) {
     if (!s.contact().active() && !s.walls().active())
         ctx.log.info("contact: off (no two bodies or walls with a contact law)");
 
-    std::vector<double> damage, force;
-    if (ck) {
-        store::truncate_after(*f, ck->step);
-        s.restore(ck->step, ck->time, ck->u, ck->v, ck->f, ck->alive, ck->broken_total);
-        s.set_external_work(ck->external_work, ck->external_power);
-        ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s)", ck->step, ck->time);
-        ck.reset();
-    } else {
-        // Fresh output: previous frames, observables and checkpoints are replaced.
-        f->remove(store::path::particles);
-        f->remove(store::path::observables);
-        f->remove(store::path::checkpoints);
-    }
-    store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields);
-    store::ObservableWriter obs(*f, s.num_walls());
-    if (first == 0) {
-        std::vector<double> mass(m.nodes.num());
-        for (std::size_t i = 0; i < mass.size(); ++i)
-            mass[i] = s.state().rho[i] * s.state().vol[i];
-        store::write_particle_constants(*f, m.nodes.body, mass);
-        s.initialize();
-        if (s.precracked() > 0)
-            ctx.log.info("pre-cracks: {} bonds start broken", s.precracked() / 2);
-        write_frame(frames, s, damage, force);
-        obs.add(0, 0.0, observable_row(s.observe()));
-    }
-    auto checkpoint = [&] {
-        store::Checkpoint c;
-        const auto& st = s.state();
-        c.step = st.step;
-        c.time = st.time;
-        c.dt = dt;
-        c.u = st.u;
-        c.v = st.v;
-        c.f = st.f;
-        c.alive = s.bonds().alive;
-        c.broken_total = s.broken_total();
-        c.external_work = s.external_work();
-        c.external_power = s.external_power_last();
-        store::write_checkpoint(*f, c);
-    };
-    double energy0 = 0;
-    if (first == 0) {
-        const auto o = s.observe();
-        energy0 = o.kinetic_energy + o.elastic_energy + o.contact_energy;
-    } else {
-        // Initial energy from the first observable row (kept across restarts).
-        auto series = store::read_observables(*f);
-        const auto ke = series.find("kinetic_energy"), ee = series.find("elastic_energy"),
-                   ce = series.find("contact_energy");
-        if (ke != series.end() && !ke->second.value.empty())
-            energy0 = ke->second.value[0] + ee->second.value[0] + ce->second.value[0];
-    }
-    double next_report = wall_seconds() + opt.progress_seconds;
-    Timers& timers = s.timers();
-    const int t_out = timers.id("pd::store::output");
-    for (std::int64_t n = first + 1; n <= last; ++n) {
-        s.advance();
-        const bool frame = n % out_every == 0 || n == total;
-        if (n % obs_every == 0 || frame) {
-            const auto o = s.observe();
-            if (!std::isfinite(o.kinetic_energy) || !std::isfinite(o.elastic_energy) ||
-                !std::isfinite(o.contact_energy)) {
-                obs.flush();
-                const auto i = s.first_nonfinite();
-                throw NumericalError(fmt::format(
-                    "{}: non-finite state at step {} (t = {:.6g} s){}; the last good frame "
-                    "stays in the file. Lower dt (now {:.4g} s) or check the scene",
-                    opt.file, n, s.state().time,
-                    i >= 0 ? fmt::format(" at node {} of body {}", i,
-                                         s.state().body[static_cast<std::size_t>(i)])
-                           : std::string{},
-                    dt));
-            }
-            // Blow-up: the mechanical energy far above what the system started with plus the
-            // work done on it (it can only lose energy to damping and fracture).
-            const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
-            if (e > 100.0 * (energy0 + std::max(0.0, o.external_work)) + 1e-300) {
-                obs.flush();
-                const auto& st = s.state();
-                std::size_t fast = 0;
-                double vmax = -1;
-                for (std::size_t i = 0; i < st.n; ++i) {
-                    const double v = std::hypot(st.v[3 * i], st.v[3 * i + 1], st.v[3 * i + 2]);
-                    if (v > vmax) {
-                        vmax = v;
-                        fast = i;
-                    }
-                }
-                throw NumericalError(fmt::format(
-                    "{}: blow-up at step {} (t = {:.6g} s): energy {:.4g} J against {:.4g} J "
-                    "initial plus {:.4g} J of external work (fastest: node {} of body {}, "
-                    "{:.3g} m/s); the last good frame stays in the file. Lower dt (now {:.4g} s; "
-                    "stability estimate {:.4g} s)",
-                    opt.file, n, st.time, e, energy0, o.external_work, fast, st.body[fast], vmax,
-                    dt, est.limit));
-            }
-            obs.add(n, s.state().time, observable_row(o));
+    // Phase 2, rank 0 alone: prepare the file (metadata only, serial).
+    if (ctx.rank == 0) {
+        h5::File wf(opt.file, h5::Mode::read_write);
+        if (ck) {
+            store::truncate_after(wf, ck->step);
+        } else {
+            // Fresh output: previous frames, observables and checkpoints are replaced.
+            wf.remove(store::path::particles);
+            wf.remove(store::path::observables);
+            wf.remove(store::path::checkpoints);
+            std::vector<double> mass(m.nodes.num());
+            for (std::size_t i = 0; i < mass.size(); ++i)
+                mass[i] = s.state().rho[i] * s.state().vol[i];
+            store::write_particle_constants(wf, m.nodes.body, mass);
         }
-        if (frame) {
-            ScopedTimer t(timers, t_out);
-            obs.flush();
+    }
+    if (par)
+        MPI_Barrier(comm);
+    // Phase 3, every rank: the run, on one file (MPI-IO, collective, under mpirun).
+    auto f = std::make_unique<h5::File>(opt.file, h5::Mode::read_write, par ? &comm : nullptr);
+    // Errors every rank sees alike (from reduced values, or from the same file) unwind on every
+    // rank; any other error on one rank aborts them all rather than leaving them waiting.
+    bool agreed = false;
+    std::size_t nframes = 0;
+    try {
+        std::vector<double> damage, force;
+        if (ck) {
+            s.restore(ck->step, ck->time, ck->u, ck->v, ck->f, ck->alive, ck->broken_total);
+            // The work is a sum over ranks: rank 0 carries what the checkpoint recorded.
+            s.set_external_work(ctx.rank == 0 ? ck->external_work : 0.0,
+                                ctx.rank == 0 ? ck->external_power : 0.0);
+            ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s)", ck->step,
+                         ck->time);
+            ck.reset();
+        }
+        store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields);
+        if (par)
+            frames.set_runs(domain.runs());
+        store::ObservableWriter obs(*f, s.num_walls());
+        if (first == 0) {
+            s.initialize();
+            if (s.precracked() > 0)
+                ctx.log.info("pre-cracks: {} bonds start broken", s.precracked() / 2);
             write_frame(frames, s, damage, force);
+            obs.add(0, 0.0, observable_row(s.observe()));
         }
-        if (n % ckpt_every == 0 || n == last) {
-            ScopedTimer t(timers, t_out);
-            obs.flush();
-            checkpoint();
-        }
-        if (wall_seconds() >= next_report || n == last) {
+        auto checkpoint = [&] {
+            store::Checkpoint c;
+            const auto& st = s.state();
+            c.step = st.step;
+            c.time = st.time;
+            c.dt = dt;
+            c.u = st.u;
+            c.v = st.v;
+            c.f = st.f;
+            c.alive = s.bonds().alive;
+            c.broken_total = s.broken_total();
+            c.external_work = domain.sum(s.external_work());
+            c.external_power = domain.sum(s.external_power_last());
+            if (par) {
+                c.node_runs = domain.runs();
+                for (const auto& r : c.node_runs)
+                    c.bond_runs.push_back({static_cast<std::uint64_t>(m.bonds.offsets[r[0]]),
+                                           static_cast<std::uint64_t>(m.bonds.offsets[r[1]])});
+            }
+            store::write_checkpoint(*f, c);
+        };
+        double energy0 = 0;
+        if (first == 0) {
             const auto o = s.observe();
-            const double el = wall_seconds() - wall0;
-            const double done = static_cast<double>(n - first);
-            ctx.log.info("step {}/{} t={:.4e} s dt={:.3e} s KE={:.4e} J broken={} contacts={} "
-                         "wall={:.1f} s ETA={:.1f} s",
-                         n, total, s.state().time, dt, o.kinetic_energy, o.broken_bonds,
-                         o.contact_count, el, el / done * static_cast<double>(last - n));
-            next_report = wall_seconds() + opt.progress_seconds;
+            energy0 = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+        } else {
+            // Initial energy from the first observable row (kept across restarts).
+            auto series = store::read_observables(*f);
+            const auto ke = series.find("kinetic_energy"), ee = series.find("elastic_energy"),
+                       ce = series.find("contact_energy");
+            if (ke != series.end() && !ke->second.value.empty())
+                energy0 = ke->second.value[0] + ee->second.value[0] + ce->second.value[0];
         }
+        double next_report = wall_seconds() + opt.progress_seconds;
+        Timers& timers = s.timers();
+        const int t_out = timers.id("pd::store::output");
+        solver::Observables last_obs = s.observe();
+        for (std::int64_t n = first + 1; n <= last; ++n) {
+            s.advance();
+            const bool frame = n % out_every == 0 || n == total;
+            if (n % obs_every == 0 || frame || n == last) {
+                const auto o = s.observe(); // collective: every rank at the same steps
+                last_obs = o;
+                agreed = true; // the checks below see the same reduced values on every rank
+                if (!std::isfinite(o.kinetic_energy) || !std::isfinite(o.elastic_energy) ||
+                    !std::isfinite(o.contact_energy)) {
+                    obs.flush();
+                    const auto i = s.first_nonfinite();
+                    throw NumericalError(fmt::format(
+                        "{}: non-finite state at step {} (t = {:.6g} s){}; the last good frame "
+                        "stays in the file. Lower dt (now {:.4g} s) or check the scene",
+                        opt.file, n, s.state().time,
+                        i >= 0 ? fmt::format(" at node {} of body {}", i,
+                                             s.state().body[static_cast<std::size_t>(i)])
+                               : std::string{},
+                        dt));
+                }
+                // Blow-up: the mechanical energy far above what the system started with plus the
+                // work done on it (it can only lose energy to damping and fracture).
+                const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+                if (e > 100.0 * (energy0 + std::max(0.0, o.external_work)) + 1e-300) {
+                    obs.flush();
+                    const auto& st = s.state();
+                    std::size_t fast = 0;
+                    double vmax = -1;
+                    for (std::size_t i = 0; i < st.n; ++i) {
+                        const double v = std::hypot(st.v[3 * i], st.v[3 * i + 1], st.v[3 * i + 2]);
+                        if (v > vmax) {
+                            vmax = v;
+                            fast = i;
+                        }
+                    }
+                    throw NumericalError(fmt::format(
+                        "{}: blow-up at step {} (t = {:.6g} s): energy {:.4g} J against {:.4g} J "
+                        "initial plus {:.4g} J of external work (fastest: node {} of body {}, "
+                        "{:.3g} m/s); the last good frame stays in the file. Lower dt (now {:.4g} "
+                        "s; "
+                        "stability estimate {:.4g} s)",
+                        opt.file, n, st.time, e, energy0, o.external_work, fast, st.body[fast],
+                        vmax, dt, est.limit));
+                }
+                obs.add(n, s.state().time, observable_row(o));
+                agreed = false;
+            }
+            if (frame) {
+                ScopedTimer t(timers, t_out);
+                obs.flush();
+                write_frame(frames, s, damage, force);
+            }
+            if (n % ckpt_every == 0 || n == last) {
+                ScopedTimer t(timers, t_out);
+                obs.flush();
+                checkpoint();
+            }
+            if (n == last || (wall_seconds() >= next_report && ctx.rank == 0)) {
+                const auto& o = last_obs; // no collective call here: ranks differ in wall time
+                const double el = wall_seconds() - wall0;
+                const double done = static_cast<double>(n - first);
+                ctx.log.info("step {}/{} t={:.4e} s dt={:.3e} s KE={:.4e} J broken={} contacts={} "
+                             "wall={:.1f} s ETA={:.1f} s",
+                             n, total, s.state().time, dt, o.kinetic_energy, o.broken_bonds,
+                             o.contact_count, el, el / done * static_cast<double>(last - n));
+                next_report = wall_seconds() + opt.progress_seconds;
+            }
+        }
+        obs.flush();
+        nframes = frames.frames();
+    } catch (const std::exception& e) {
+        if (par && !agreed) {
+            ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));
+            MPI_Abort(comm, dynamic_cast<const InputError*>(&e)       ? exit_input
+                            : dynamic_cast<const NumericalError*>(&e) ? exit_numerical
+                                                                      : exit_internal);
+        }
+        throw;
     }
-    obs.flush();
+    f.reset(); // collective close before rank 0 records provenance
+    Timers& timers = s.timers();
     const double wall = wall_seconds() - wall0;
     ctx.log.info("done: steps {} to {}, {} frames in the file, {} contact-list rebuilds, {:.3g} "
                  "node-steps/s",
-                 first, last, frames.frames(), s.contact().rebuilds(),
+                 first, last, nframes, s.contact().rebuilds(),
                  static_cast<double>(m.nodes.num()) * static_cast<double>(last - first) / wall);
+    if (par) {
+        // Load balance over the run: time in force evaluation and integration per rank.
+        double busy = 0;
+        for (const char* name :
+             {"pd::solver::bond_forces", "pd::solver::contact_forces", "pd::solver::contact_search",
+              "pd::solver::wall_contact", "pd::solver::integrate", "pd::solver::damping_friction"})
+            busy += timers.total(timers.id(name));
+        const double mean = domain.sum(busy) / ctx.size;
+        ctx.log.info("load balance: compute time max/mean over {} ranks {:.3f} (mean {:.3g} s of "
+                     "{:.3g} s wall)",
+                     ctx.size, mean > 0 ? domain.max(busy) / mean : 1.0, mean, wall);
+    }
     ctx.log.info("{}", timers.table(wall));
 }
 

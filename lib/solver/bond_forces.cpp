@@ -2,6 +2,7 @@
 #include "solver/bond_forces.hpp"
 
 #include <cmath>
+#include <functional>
 
 namespace pd::solver {
 
@@ -9,7 +10,8 @@ namespace {
 
 template <bool Breakable>
 BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
-    const auto n = static_cast<std::int64_t>(s.n);
+    const auto n = static_cast<std::int64_t>(s.rows.size());
+    const index_t* rows = s.rows.data();
     const double* x = s.x.data();
     const double* vol = s.vol.data();
     double* f = s.f.data();
@@ -21,7 +23,8 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     double energy = 0;
     std::int64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : energy, broken) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = rows[a];
         double fi[3] = {0, 0, 0};
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (law.lps[body] || law.rnp[body])
@@ -74,8 +77,9 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
 }
 
 template <bool Breakable>
-BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
-    const auto n = static_cast<std::int64_t>(s.n);
+BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
+    const auto n = static_cast<std::int64_t>(s.rows.size());
+    const index_t* rows = s.rows.data();
     const double* x = s.x.data();
     const double* vol = s.vol.data();
     double* f = s.f.data();
@@ -91,7 +95,8 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
     std::int64_t broken = 0;
     // Pass 1: break bonds (tension only, symmetric inputs), then dilatation.
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = rows[a];
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (!law.lps[body] || !s.moving[static_cast<std::size_t>(i)]) {
             theta[i] = 0;
@@ -117,10 +122,13 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
         }
         theta[i] = dd * th / mw[i];
     }
+    if (between)
+        between(); // ghosts' dilatation
     // Pass 2: forces from both ends of every intact bond.
     double energy = 0;
 #pragma omp parallel for schedule(static) reduction(+ : energy) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = rows[a];
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (!law.lps[body])
             continue;
@@ -169,7 +177,8 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law) {
 
 template <bool Breakable>
 BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
-    const auto n = static_cast<std::int64_t>(s.n);
+    const auto n = static_cast<std::int64_t>(s.rows.size());
+    const index_t* rows = s.rows.data();
     const double* x = s.x.data();
     const double* x0 = s.x0.data();
     const double* vol = s.vol.data();
@@ -183,7 +192,8 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
     double energy = 0;
     std::int64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : energy, broken) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = rows[a];
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (!law.rnp[body])
             continue;
@@ -253,8 +263,10 @@ void lps_weighted_volume(const State& s, const BondData& b, BodyLaw& law) {
     }
 }
 
-BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law) {
-    return law.any_breakable ? lps_kernel<true>(s, b, law) : lps_kernel<false>(s, b, law);
+BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
+                           const std::function<void()>& between) {
+    return law.any_breakable ? lps_kernel<true>(s, b, law, between)
+                             : lps_kernel<false>(s, b, law, between);
 }
 
 BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law) {
@@ -263,9 +275,11 @@ BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law) {
 
 void damage_phi(const State& s, const BondData& b, std::vector<double>& phi) {
     phi.assign(s.n, 0.0);
-    const auto n = static_cast<std::int64_t>(s.n);
+    const auto n = static_cast<std::int64_t>(s.rows.size());
+    const index_t* rows = s.rows.data();
 #pragma omp parallel for schedule(static) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = rows[a];
         double all = 0, br = 0;
         for (offset_t k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
             const double w = b.beta[k] * s.vol[b.neighbor[k]];

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Peridynamic bond forces over the full CSR list: each thread writes only its own rows (no
-// atomics). Fracture bookkeeping is compiled out for unbreakable scenes.
+// Peridynamic bond forces over the full CSR rows of the owned nodes (State::rows): each thread
+// writes only its own rows (no atomics). Fracture bookkeeping is compiled out for unbreakable
+// scenes.
 #pragma once
 
 #include "solver/state.hpp"
+
+#include <functional>
 
 namespace pd::solver {
 
@@ -19,7 +22,9 @@ BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law);
 
 /// Sets f = LPS force density of every node of a moving LPS body (spec 1.3, model/lps.hpp),
 /// two passes: dilatation (and bond breaking), then forces. Rows of PMB bodies are untouched.
-BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law);
+/// `between` runs between the passes (the ghost exchange of law.theta under MPI).
+BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
+                           const std::function<void()>& between = {});
 
 /// Sets f = RNP force density of every node of a moving RNP body (spec 1.4, model/rnp.hpp).
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law);

@@ -30,6 +30,7 @@ ContactList::ContactList(const model::Model& m, double skin)
     active_ = m.bodies.num() > 1 && !laws_.empty();
     eligible_ =
         m.nodes.surface.empty() ? std::vector<std::uint8_t>(m.nodes.num(), 1) : m.nodes.surface;
+    owned_.assign(m.nodes.num(), 1);
 }
 
 bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit) {
@@ -37,9 +38,10 @@ bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double
         return true;
     const double lim2 = limit * limit;
     bool far = false;
-    const auto n = static_cast<std::int64_t>(s.n);
+    const auto n = static_cast<std::int64_t>(s.rows.size());
 #pragma omp parallel for schedule(static) reduction(|| : far) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
         double d2 = 0;
         for (int d = 0; d < 3; ++d) {
             const double e = s.x[3 * i + d] - x_ref[3 * i + d];
@@ -56,7 +58,7 @@ std::size_t ContactList::num_eligible() const {
 
 std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                                           std::vector<BodyPairForce>* normal) const {
-    const auto n = static_cast<std::int64_t>(s.n);
+    const auto n = static_cast<std::int64_t>(s.rows.size());
     std::int64_t touching = 0;
     double e = 0;
     std::vector<BodyPairForce> records;
@@ -64,7 +66,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
     {
         std::vector<BodyPairForce> mine;
 #pragma omp for schedule(static) nowait
-        for (std::int64_t i = 0; i < n; ++i) {
+        for (std::int64_t a = 0; a < n; ++a) {
+            const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
             const double* xi = &s.x[3 * i];
             double fi[3] = {0, 0, 0};
             const auto ii = static_cast<std::size_t>(i);
@@ -85,19 +88,27 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                 fi[2] += a * d2;
                 e += 0.25 * law.stiffness * (law.radius - r) * (law.radius - r) * s.vol[ii] *
                      s.vol[j];
-                if (i < j) {
-                    ++touching;
-                    if (normal && (law.restitution < 1 || law.friction > 0)) {
-                        // force on j's body from i's body: +fn V_i along d/r
-                        const double c = fn * s.vol[ii] / r;
-                        mine.push_back({s.body[ii],
-                                        s.body[static_cast<std::size_t>(j)],
-                                        static_cast<index_t>(i),
-                                        j,
-                                        {c * d0, c * d1, c * d2},
-                                        law.friction,
-                                        law.restitution < 1});
-                    }
+                if (i < j)
+                    ++touching; // each pair once, from the row of its smaller node
+                // A record per touching pair, once on every rank that owns one of its nodes:
+                // from the row of the smaller node, or of the larger one if the smaller is a
+                // ghost. Stored as (smaller, larger), the force computed symmetrically, so the
+                // records do not depend on which side computed them.
+                if (normal && (law.restitution < 1 || law.friction > 0) &&
+                    (i < j || !owned_[static_cast<std::size_t>(j)])) {
+                    // force on j's body from i's body: Kn (R_c - r) V_i V_j along d/r
+                    const double c = law.stiffness * (law.radius - r) *
+                                     (s.vol[ii] * s.vol[static_cast<std::size_t>(j)]) / r;
+                    const double sg = i < j ? c : -c;
+                    mine.push_back({s.body[ii],
+                                    s.body[static_cast<std::size_t>(j)],
+                                    static_cast<index_t>(std::min<std::int64_t>(i, j)),
+                                    static_cast<index_t>(std::max<std::int64_t>(i, j)),
+                                    {sg * d0, sg * d1, sg * d2},
+                                    law.friction,
+                                    law.restitution < 1});
+                    if (j < i)
+                        std::swap(mine.back().a, mine.back().b);
                 }
             }
             s.f[3 * i] += fi[0];
@@ -124,13 +135,30 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
     return touching;
 }
 
-bool ContactList::update(const State& s) {
+void ContactList::set_owned(const Domain& dom) {
+    owned_.assign(eligible_.size(), 0);
+    for (auto i : dom.rows())
+        owned_[static_cast<std::size_t>(i)] = 1;
+}
+
+bool ContactList::update(State& s, const Domain& dom) {
     if (!active_)
         return false;
-    if (built_ && !moved_farther_than(s, x_build_, 0.5 * skin_))
+    // Collective: every rank rebuilds when any rank needs it.
+    if (!dom.any(!built_ || moved_farther_than(s, x_build_, 0.5 * skin_)))
         return false;
+    if (dom.distributed()) {
+        dom.allgather(s.x, 3); // every node where its owner has it
+        dom.max(eligible_);    // nodes exposed by damage on any rank
+    }
     rebuild(s);
     return true;
+}
+
+void ContactList::ghosts(std::vector<index_t>& out) const {
+    for (auto j : neighbor_)
+        if (!owned_[static_cast<std::size_t>(j)])
+            out.push_back(j);
 }
 
 void ContactList::rebuild(const State& s) {
@@ -215,6 +243,8 @@ void ContactList::rebuild(const State& s) {
 #pragma omp parallel for schedule(dynamic, 256) if (na > parallel_min)
     for (std::int64_t a = 0; a < na; ++a) {
         const index_t i = active_nodes[static_cast<std::size_t>(a)];
+        if (!owned_[static_cast<std::size_t>(i)])
+            continue; // rows of owned nodes only; the cells hold every active node
         const double* xi = &s.x[3 * i];
         const auto gi = body_group_[static_cast<std::size_t>(s.body[i])];
         for (int dx = -1; dx <= 1; ++dx)

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "model/model.hpp"
+#include "solver/domain.hpp"
 #include "solver/state.hpp"
 
 namespace pd::solver {
@@ -31,8 +32,13 @@ class ContactList {
     bool active() const { return active_; }
     double max_radius() const { return rc_max_; }
 
-    /// Rebuilds the candidate list if needed; returns true if it did.
-    bool update(const State& s);
+    /// Nodes whose rows this rank builds (all by default).
+    void set_owned(const Domain& dom);
+    /// Rebuilds the candidate list if any rank needs it (collective; gathers every position
+    /// first under MPI); returns true if it did.
+    bool update(State& s, const Domain& dom);
+    /// Appends the candidates owned by other ranks (ghosts the contact forces read).
+    void ghosts(std::vector<index_t>& out) const;
     /// Lets node i take part in contact from the next rebuild on (exposed by damage) and asks
     /// for a rebuild at the next update().
     void expose(index_t i) {
@@ -72,6 +78,7 @@ class ContactList {
     std::vector<std::int32_t> law_;
     std::vector<double> x_build_;
     std::vector<std::uint8_t> eligible_;
+    std::vector<std::uint8_t> owned_; ///< 1 = this rank builds the node's row
     bool built_ = false;
     bool any_friction_ = false;
     std::int64_t rebuilds_ = 0;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace pd::solver {
@@ -57,10 +58,19 @@ bool segments_cross(const double* a, const double* b, const double* c, const dou
 
 } // namespace
 
-Solver::Solver(const model::Model& m)
-    : m_(m) {
+Solver::Solver(const model::Model& m, Domain* dom)
+    : m_(m)
+    , dom_(dom) {
     const std::size_t n = m.nodes.num(), nb = m.bodies.num();
+    if (!dom_) {
+        serial_ = std::make_unique<Domain>(n);
+        dom_ = serial_.get();
+    }
+    if (dom_->num_nodes() != n)
+        throw InternalError(
+            fmt::format("domain of {} nodes for a model of {}", dom_->num_nodes(), n));
     s_.n = n;
+    s_.rows = dom_->rows();
     s_.x0 = m.nodes.x0;
     s_.x = m.nodes.x0;
     s_.u.assign(3 * n, 0.0);
@@ -221,6 +231,31 @@ Solver::Solver(const model::Model& m)
         friction_ = friction_ || (p.friction > 0 && p.stiffness > 0);
     }
     records_ = damping_ || friction_;
+    contact_->set_owned(*dom_);
+    if (dom_->distributed()) {
+        if (damping_)
+            for (std::size_t b = 0; b < nb; ++b) {
+                const auto i0 = m.bodies.begin(b);
+                for (auto i = i0; i < m.bodies.end(b); ++i)
+                    if (dom_->owner(i) != dom_->owner(i0))
+                        throw InputError(fmt::format(
+                            "body {} is split between MPI ranks {} and {}, but grain-level "
+                            "damping (restitution < 1) needs whole grains per rank: partition "
+                            "by grain (pd-partition --by grain)",
+                            b, dom_->owner(i0), dom_->owner(i)));
+            }
+        for (auto i : s_.rows)
+            for (auto k = b_.offsets[static_cast<std::size_t>(i)];
+                 k < b_.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
+                const auto j = b_.neighbor[static_cast<std::size_t>(k)];
+                if (!dom_->owns(j))
+                    bond_ghosts_.push_back(j);
+            }
+        std::sort(bond_ghosts_.begin(), bond_ghosts_.end());
+        bond_ghosts_.erase(std::unique(bond_ghosts_.begin(), bond_ghosts_.end()),
+                           bond_ghosts_.end());
+        dom_->set_ghosts(bond_ghosts_);
+    }
     body_mass_.assign(nb, 0.0);
     for (std::size_t i = 0; i < n; ++i)
         body_mass_[static_cast<std::size_t>(s_.body[i])] += s_.rho[i] * s_.vol[i];
@@ -287,7 +322,10 @@ void Solver::compute_forces() {
             broken_total_ += res.newly_broken;
         }
         if (law_.any_lps) {
-            auto res = lps_bond_forces(s_, b_, law_);
+            std::function<void()> between;
+            if (dom_->distributed())
+                between = [this] { dom_->exchange({&law_.theta}, 1); };
+            auto res = lps_bond_forces(s_, b_, law_, between);
             elastic_energy_ += res.elastic_energy;
             broken_total_ += res.newly_broken;
         }
@@ -298,19 +336,22 @@ void Solver::compute_forces() {
         }
         if (broken_total_ != exposed_at_) {
             // Damage exposes interior nodes: they join the contact search.
-            for (std::size_t i = 0; i < s_.n; ++i)
+            for (auto row : s_.rows) {
+                const auto i = static_cast<std::size_t>(row);
                 for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k)
                     if (!b_.alive[static_cast<std::size_t>(k)]) {
-                        contact_->expose(static_cast<index_t>(i));
+                        contact_->expose(row);
                         break;
                     }
+            }
             exposed_at_ = broken_total_;
         }
     }
     if (contact_->active()) {
         {
             ScopedTimer t(timers_, t_search_);
-            contact_->update(s_);
+            if (contact_->update(s_, *dom_) && dom_->distributed())
+                set_ghosts();
         }
         ScopedTimer t(timers_, t_contact_);
         contact_count_ =
@@ -358,18 +399,22 @@ void Solver::compute_forces() {
     }
     if (m_.loading.viscous_damping > 0) {
         const double cd = m_.loading.viscous_damping;
-        const auto n = static_cast<std::int64_t>(s_.n);
+        const auto n = static_cast<std::int64_t>(s_.rows.size());
 #pragma omp parallel for schedule(static) if (n > parallel_min)
-        for (std::int64_t i = 0; i < n; ++i)
+        for (std::int64_t a = 0; a < n; ++a) {
+            const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
             for (int d = 0; d < 3; ++d)
                 s_.f[3 * i + d] -= cd * s_.rho[static_cast<std::size_t>(i)] * s_.v[3 * i + d];
+        }
     }
     if (g_[0] != 0 || g_[1] != 0 || g_[2] != 0) {
-        const auto n = static_cast<std::int64_t>(s_.n);
+        const auto n = static_cast<std::int64_t>(s_.rows.size());
 #pragma omp parallel for schedule(static) if (n > parallel_min)
-        for (std::int64_t i = 0; i < n; ++i)
+        for (std::int64_t a = 0; a < n; ++a) {
+            const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
             for (int d = 0; d < 3; ++d)
                 s_.f[3 * i + d] += s_.rho[static_cast<std::size_t>(i)] * g_[d];
+        }
     }
 }
 
@@ -396,6 +441,27 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
             F[static_cast<std::size_t>(d)] += r.force[d];
     }
     std::map<std::int32_t, std::array<double, 6>> com; // velocity, position of involved bodies
+    if (dom_->distributed()) {
+        // Whole grains per rank (checked at construction): each owner sums its grains' nodes in
+        // the order one rank would, the others add exact zeros.
+        std::vector<double> all(6 * m_.bodies.num(), 0.0);
+        for (auto row : s_.rows) {
+            const auto ii = static_cast<std::size_t>(row);
+            const auto b = static_cast<std::size_t>(s_.body[ii]);
+            const double mi = s_.rho[ii] * s_.vol[ii];
+            for (std::size_t d = 0; d < 3; ++d) {
+                all[6 * b + d] += mi * s_.v[3 * ii + d];
+                all[6 * b + 3 + d] += mi * s_.x[3 * ii + d];
+            }
+        }
+        dom_->sum(all);
+        for (std::size_t b = 0; b < m_.bodies.num(); ++b) {
+            std::array<double, 6> c;
+            for (std::size_t d = 0; d < 6; ++d)
+                c[d] = all[6 * b + d] / body_mass_[b];
+            com.emplace(static_cast<std::int32_t>(b), c);
+        }
+    }
     auto com_of = [&](std::int32_t b) -> const std::array<double, 6>& {
         auto it = com.find(b);
         if (it != com.end())
@@ -455,7 +521,7 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
         // Damping force on b (or on the grain, for a wall): -(1 - eps^2) F, F the contact force
         // on it.
         const double Fd[3] = {-scale * F[0], -scale * F[1], -scale * F[2]};
-        if (wall) {
+        if (wall && dom_->owns(m_.bodies.begin(static_cast<std::size_t>(a)))) {
             const auto w = static_cast<std::size_t>(-1 - key.second);
             for (std::size_t d = 0; d < 3; ++d)
                 wall_load_.force[3 * w + d] -= Fd[d]; // the wall feels the reduced push too
@@ -480,8 +546,9 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
         }
     }
     for (const auto& [b, acc] : accel) {
-        if (m_.bodies.fixed[static_cast<std::size_t>(b)])
-            continue;
+        if (m_.bodies.fixed[static_cast<std::size_t>(b)] ||
+            !dom_->owns(m_.bodies.begin(static_cast<std::size_t>(b))))
+            continue; // (a grain split between ranks is refused with damping)
         for (auto i = m_.bodies.begin(static_cast<std::size_t>(b));
              i < m_.bodies.end(static_cast<std::size_t>(b)); ++i) {
             const auto ii = static_cast<std::size_t>(i);
@@ -532,7 +599,8 @@ void Solver::apply_displacements() {
 
 void Solver::break_precracks() {
     for (const auto& c : m_.cracks)
-        for (std::size_t i = 0; i < s_.n; ++i)
+        for (auto row : s_.rows) {
+            const auto i = static_cast<std::size_t>(row);
             for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
                 const auto kk = static_cast<std::size_t>(k);
                 const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
@@ -542,6 +610,7 @@ void Solver::break_precracks() {
                     ++precracked_;
                 }
             }
+        }
     broken_total_ += precracked_;
 }
 
@@ -560,7 +629,16 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
     for (std::size_t k = 0; k < s_.x.size(); ++k)
         s_.x[k] = s_.x0[k] + s_.u[k];
     b_.alive = alive;
-    broken_total_ = broken_total;
+    // This rank's share of the broken bonds (`broken_total` counts every rank's).
+    broken_total_ = 0;
+    for (auto row : s_.rows)
+        for (auto k = b_.offsets[static_cast<std::size_t>(row)];
+             k < b_.offsets[static_cast<std::size_t>(row) + 1]; ++k)
+            broken_total_ += b_.alive[static_cast<std::size_t>(k)] ? 0 : 1;
+    if (dom_->sum(broken_total_) != broken_total)
+        throw InputError(fmt::format("checkpoint: {} broken bond ends recorded, {} in its bond "
+                                     "state",
+                                     broken_total, dom_->sum(broken_total_)));
     exposed_at_ = -1; // expose damaged nodes at the first force evaluation
 }
 
@@ -642,6 +720,13 @@ void Solver::apply_friction() {
     }
 }
 
+void Solver::set_ghosts() {
+    std::vector<index_t> g = bond_ghosts_;
+    contact_->ghosts(g);
+    dom_->set_ghosts(g);
+    dom_->exchange({&s_.x, &s_.u, &s_.v}, 3); // new ghosts' velocities (friction, damping)
+}
+
 void Solver::initialize() {
     initialized_ = true;
     break_precracks();
@@ -661,13 +746,15 @@ void Solver::initialize() {
 
 void Solver::advance() {
     const double dt = dt_;
-    const auto n = static_cast<std::int64_t>(s_.n);
+    const auto n = static_cast<std::int64_t>(s_.rows.size());
+    const index_t* rows = s_.rows.data();
     const bool verlet = m_.solver.integrator == model::Integrator::velocity_verlet;
     const double kick = verlet ? 0.5 * dt : dt;
     {
         ScopedTimer t(timers_, t_integrate_);
 #pragma omp parallel for schedule(static) if (n > parallel_min)
-        for (std::int64_t i = 0; i < n; ++i) {
+        for (std::int64_t r = 0; r < n; ++r) {
+            const std::int64_t i = rows[r];
             if (!s_.moving[static_cast<std::size_t>(i)])
                 continue;
             const double a = kick / s_.rho[static_cast<std::size_t>(i)];
@@ -685,11 +772,13 @@ void Solver::advance() {
     s_.time += dt;
     ++s_.step;
     apply_displacements();
+    dom_->exchange({&s_.x, &s_.u, &s_.v}, 3);
     compute_forces();
     if (verlet) {
         ScopedTimer t(timers_, t_integrate_);
 #pragma omp parallel for schedule(static) if (n > parallel_min)
-        for (std::int64_t i = 0; i < n; ++i) {
+        for (std::int64_t r = 0; r < n; ++r) {
+            const std::int64_t i = rows[r];
             if (!s_.moving[static_cast<std::size_t>(i)])
                 continue;
             const double a = kick / s_.rho[static_cast<std::size_t>(i)];
@@ -711,14 +800,14 @@ double Solver::external_power() const {
     // Power of gravity and force conditions on every component, of the reactions that impose
     // prescribed displacements (minus the internal force there), and of moving walls.
     double pw = 0;
-    const auto n = static_cast<std::int64_t>(s_.n);
+    const auto n = static_cast<std::int64_t>(s_.rows.size());
     const bool g = g_[0] != 0 || g_[1] != 0 || g_[2] != 0;
     const bool bc = !fbc_.empty();
     const bool prescribed = has_prescribed_;
     if (g || bc || prescribed) {
 #pragma omp parallel for schedule(static) reduction(+ : pw) if (n > parallel_min)
-        for (std::int64_t i = 0; i < n; ++i) {
-            const auto ii = static_cast<std::size_t>(i);
+        for (std::int64_t a = 0; a < n; ++a) {
+            const auto ii = static_cast<std::size_t>(s_.rows[static_cast<std::size_t>(a)]);
             if (!s_.moving[ii])
                 continue;
             double p = 0;
@@ -743,9 +832,10 @@ double Solver::external_power() const {
 Observables Solver::observe() const {
     Observables o;
     double ke = 0, p0 = 0, p1 = 0, p2 = 0;
-    const auto n = static_cast<std::int64_t>(s_.n);
+    const auto n = static_cast<std::int64_t>(s_.rows.size());
 #pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
         const double mass =
             s_.rho[static_cast<std::size_t>(i)] * s_.vol[static_cast<std::size_t>(i)];
         const double* v = &s_.v[3 * i];
@@ -764,7 +854,36 @@ Observables Solver::observe() const {
     o.contact_count = contact_count_;
     o.wall_force = wall_load_.force;
     o.wall_moment = wall_load_.moment;
-    o.broken_bonds = broken_total_ / 2;
+    o.broken_bonds = broken_total_;
+    if (dom_->distributed()) {
+        // One reduction for every sum over ranks (counts are exact in doubles below 2^53).
+        std::vector<double> all{o.kinetic_energy,
+                                o.momentum[0],
+                                o.momentum[1],
+                                o.momentum[2],
+                                o.elastic_energy,
+                                o.contact_energy,
+                                o.external_work,
+                                static_cast<double>(o.contact_count),
+                                static_cast<double>(o.broken_bonds)};
+        all.insert(all.end(), o.wall_force.begin(), o.wall_force.end());
+        all.insert(all.end(), o.wall_moment.begin(), o.wall_moment.end());
+        dom_->sum(all);
+        o.kinetic_energy = all[0];
+        for (std::size_t d = 0; d < 3; ++d)
+            o.momentum[d] = all[1 + d];
+        o.elastic_energy = all[4];
+        o.contact_energy = all[5];
+        o.external_work = all[6];
+        o.contact_count = static_cast<std::int64_t>(all[7]);
+        o.broken_bonds = static_cast<std::int64_t>(all[8]);
+        const std::size_t nw = o.wall_force.size();
+        std::copy(all.begin() + 9, all.begin() + 9 + static_cast<std::ptrdiff_t>(nw),
+                  o.wall_force.begin());
+        std::copy(all.begin() + 9 + static_cast<std::ptrdiff_t>(nw), all.end(),
+                  o.wall_moment.begin());
+    }
+    o.broken_bonds /= 2;
     return o;
 }
 
@@ -774,12 +893,21 @@ void Solver::damage(std::vector<double>& phi) const {
 
 void Solver::broken_per_node(std::vector<double>& count) const {
     count.assign(s_.n, 0.0);
-    for (std::size_t i = 0; i < s_.n; ++i)
+    for (auto row : s_.rows) {
+        const auto i = static_cast<std::size_t>(row);
         for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k)
             count[i] += b_.alive[static_cast<std::size_t>(k)] ? 0.0 : 1.0;
+    }
 }
 
 void Solver::fragments(std::vector<double>& id) const {
+    // Components can span ranks (node partition): every rank needs every bond's state.
+    std::vector<std::uint8_t> gathered;
+    if (dom_->distributed()) {
+        gathered = b_.alive;
+        dom_->allgather_csr(gathered, b_.offsets);
+    }
+    const auto& alive = dom_->distributed() ? gathered : b_.alive;
     std::vector<index_t> parent(s_.n);
     for (std::size_t i = 0; i < s_.n; ++i)
         parent[i] = static_cast<index_t>(i);
@@ -794,7 +922,7 @@ void Solver::fragments(std::vector<double>& id) const {
     for (std::size_t i = 0; i < s_.n; ++i)
         for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
-            if (!b_.alive[kk])
+            if (!alive[kk])
                 continue;
             const index_t a = find(static_cast<index_t>(i)), b = find(b_.neighbor[kk]);
             if (a != b) // the smaller index becomes the root
@@ -807,10 +935,10 @@ void Solver::fragments(std::vector<double>& id) const {
 
 void Solver::damage_z(std::vector<double>& z) const {
     z.assign(s_.n, 0.0);
-    const auto n = static_cast<std::int64_t>(s_.n);
+    const auto n = static_cast<std::int64_t>(s_.rows.size());
 #pragma omp parallel for schedule(static) if (n > parallel_min)
-    for (std::int64_t i = 0; i < n; ++i) {
-        const auto ii = static_cast<std::size_t>(i);
+    for (std::int64_t a = 0; a < n; ++a) {
+        const auto ii = static_cast<std::size_t>(s_.rows[static_cast<std::size_t>(a)]);
         const auto b = static_cast<std::size_t>(s_.body[ii]);
         const double s0 = law_.s0[b];
         if (!std::isfinite(s0) || !s_.moving[ii])
@@ -849,11 +977,12 @@ void Solver::nodal_force(std::vector<double>& out) const {
 }
 
 std::int64_t Solver::first_nonfinite() const {
-    for (std::size_t i = 0; i < s_.n; ++i)
-        for (int d = 0; d < 3; ++d)
-            if (!std::isfinite(s_.x[3 * i + static_cast<std::size_t>(d)]) ||
-                !std::isfinite(s_.v[3 * i + static_cast<std::size_t>(d)]))
+    for (auto row : s_.rows) {
+        const auto i = static_cast<std::size_t>(row);
+        for (std::size_t d = 0; d < 3; ++d)
+            if (!std::isfinite(s_.x[3 * i + d]) || !std::isfinite(s_.v[3 * i + d]))
                 return static_cast<std::int64_t>(i);
+    }
     return -1;
 }
 

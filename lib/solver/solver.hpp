@@ -6,6 +6,7 @@
 #include "core/timer.hpp"
 #include "model/model.hpp"
 #include "solver/contact.hpp"
+#include "solver/domain.hpp"
 #include "solver/state.hpp"
 #include "solver/walls.hpp"
 
@@ -40,7 +41,10 @@ struct Observables {
 
 class Solver {
   public:
-    explicit Solver(const model::Model& m);
+    /// `dom`: the nodes this rank owns and its ghost exchange (nullptr: one rank owns all).
+    /// Collective over the domain's ranks, as are initialize(), advance(), observe(),
+    /// fragments() and broken_total().
+    explicit Solver(const model::Model& m, Domain* dom = nullptr);
 
     StableDt stable_dt() const;
     void set_dt(double dt) { dt_ = dt; }
@@ -76,7 +80,9 @@ class Solver {
     const ContactList& contact() const { return *contact_; }
     const WallContact& walls() const { return *walls_; }
     std::size_t num_walls() const { return walls_->num_walls(); }
-    std::int64_t broken_total() const { return broken_total_; }
+    /// Broken bonds counted from both ends, over all ranks (collective).
+    std::int64_t broken_total() const { return dom_->sum(broken_total_); }
+    const Domain& domain() const { return *dom_; }
 
     /// Continues from a checkpoint instead of initialize(): state, bond state and forces as they
     /// were, so the run continues bit for bit.
@@ -85,8 +91,8 @@ class Solver {
                  const std::vector<std::uint8_t>& alive, std::int64_t broken_total);
     /// Sets u, v, x of prescribed components at time s.time (spec 5.6).
     void apply_displacements();
-    /// Number of bonds that cross a pre-crack (broken at initialize()).
-    std::int64_t precracked() const { return precracked_; }
+    /// Number of bond ends that cross a pre-crack (broken at initialize()), over all ranks.
+    std::int64_t precracked() const { return dom_->sum(precracked_); }
 
     /// Work of external forces since t = 0 (J) and the external power at the last step (W):
     /// checkpointed, so the work continues across restarts.
@@ -105,7 +111,12 @@ class Solver {
                        const std::vector<BodyWallForce>& walls);
     void apply_friction();
 
+    void set_ghosts();
+
     const model::Model& m_;
+    std::unique_ptr<Domain> serial_; ///< the one-rank domain when none is given
+    Domain* dom_ = nullptr;
+    std::vector<index_t> bond_ghosts_; ///< bond neighbours of owned nodes owned elsewhere
     State s_;
     BondData b_;
     BodyLaw law_;
@@ -124,7 +135,7 @@ class Solver {
     double elastic_energy_ = 0;
     double contact_energy_ = 0;
     std::int64_t contact_count_ = 0;
-    std::int64_t broken_total_ = 0; ///< from both ends
+    std::int64_t broken_total_ = 0; ///< from both ends, this rank's rows
     std::int64_t precracked_ = 0;
     std::int64_t exposed_at_ = 0; ///< broken_total_ when damaged nodes were last exposed
     std::vector<double> fbc_;     ///< force-condition density per component (if any)

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Solver state: structure of arrays over owned nodes [0, n) (ghosts would follow, STYLE 2.2),
-// 3-vectors interleaved. Bonds in CSR with per-bond reference length, partial-volume factor and
-// alive flag. Built once from a model::Model.
+// Solver state: structure of arrays over all n nodes of the model, 3-vectors interleaved; a rank
+// computes its owned `rows` and keeps ghosts current (solver/domain.hpp). Bonds in CSR with
+// per-bond reference length, partial-volume factor and alive flag. Built once from a model::Model.
 #pragma once
 
 #include "model/model.hpp"
@@ -32,6 +32,9 @@ struct State {
     std::vector<std::int32_t> body;
     std::vector<std::uint8_t> moving;    ///< 1 = integrated (free body)
     std::vector<std::uint8_t> fixed_dof; ///< bit d: component d prescribed by a condition
+    /// Nodes this rank computes and integrates, ascending (all nodes on one rank; see
+    /// solver/domain.hpp). Loops over nodes run over these.
+    std::vector<index_t> rows;
     std::int64_t step = 0;
     double time = 0;
 };
@@ -53,6 +56,7 @@ struct BondData {
 
 /// True if some node moved farther than `limit` (m) from where it was in `x_ref` (3 per node):
 /// the skin test of the contact and wall candidate lists.
+/// Checks the owned rows only.
 bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit);
 
 /// Per-body constants of the bond law (bonds never cross bodies).

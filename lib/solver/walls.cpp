@@ -133,7 +133,8 @@ void WallContact::rebuild(const State& s) {
     for (const auto& w : walls_)
         pose.push_back(wall_pose(w, s.time));
     const double reach = rc_max_ + skin_;
-    for (std::size_t i = 0; i < s.n; ++i) {
+    for (const auto row : s.rows) {
+        const auto i = static_cast<std::size_t>(row);
         if (!s.moving[i])
             continue;
         const auto g =

@@ -15,14 +15,17 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.remove(g);
     f.create_group(g);
     const std::uint64_t n = c.u.size() / 3;
+    const h5::runs_t all_nodes{{0, n}}, all_bonds{{0, c.alive.size()}};
+    const auto& nodes = c.node_runs.empty() ? all_nodes : c.node_runs;
+    const auto& bonds = c.bond_runs.empty() ? all_bonds : c.bond_runs;
     auto put = [&](const std::string& p, const std::vector<double>& v, const char* unit) {
-        f.write(g + "/" + p, v, {n, 3});
+        f.write_runs<double>(g + "/" + p, v, {n, 3}, nodes);
         f.set_attr(g + "/" + p, "unit", unit);
     };
     put("displacement", c.u, "m");
     put("velocity", c.v, "m s-1");
     put("force_density", c.f, "N m-3");
-    f.write(g + "/bond_alive", c.alive);
+    f.write_runs<std::uint8_t>(g + "/bond_alive", c.alive, {c.alive.size()}, bonds);
     f.set_attr(g + "/bond_alive", "unit", "1");
     f.set_attr(g, "step", c.step);
     f.set_attr(g, "time", c.time);

@@ -5,6 +5,7 @@
 // previous one is deleted only after that, so a crash mid-write leaves the previous one valid.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -25,6 +26,9 @@ struct Checkpoint {
     std::int64_t broken_total = 0;   ///< broken bonds counted from both ends
     double external_work = 0;        ///< J, since t = 0
     double external_power = 0;       ///< W, at this step (trapezoidal work integration)
+    /// Under MPI, what this rank writes: its nodes' rows of u, v, f and its bonds' entries of
+    /// `alive` ([begin, end) runs; the vectors hold every node and bond). Empty = all.
+    std::vector<std::array<std::uint64_t, 2>> node_runs, bond_runs;
 };
 
 /// Writes `c` as /checkpoints/step_<N>, then points @latest at it and deletes older ones.

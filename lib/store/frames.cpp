@@ -102,7 +102,10 @@ void FrameWriter::write(std::int64_t step, double time,
         const auto& fi = field_info(name);
         if (it->second.size() != n_ * static_cast<std::size_t>(fi.components))
             throw InternalError("frame field '" + name + "' has the wrong size");
-        f_.append<double>(field_path(name) + "/value", it->second, 1);
+        if (runs_.empty())
+            f_.append<double>(field_path(name) + "/value", it->second, 1);
+        else
+            f_.append_runs<double>(field_path(name) + "/value", it->second, runs_);
     }
     const std::string pos = field_path("position");
     f_.append<std::int64_t>(pos + "/step", std::span<const std::int64_t>(&step, 1), 1);

@@ -6,6 +6,7 @@
 // observables). 2D runs store z = 0.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -33,6 +34,9 @@ class FrameWriter {
   public:
     /// `fields` are names from frame_fields(); position is always written.
     FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields);
+    /// Under MPI: this rank writes only these nodes of each frame (their values in `data` at
+    /// their own places); empty = all nodes.
+    void set_runs(std::vector<std::array<std::uint64_t, 2>> runs) { runs_ = std::move(runs); }
     /// Appends one frame; `data` maps each field name to num_nodes * components values.
     void write(std::int64_t step, double time,
                const std::map<std::string, std::span<const double>>& data);
@@ -44,6 +48,7 @@ class FrameWriter {
     std::size_t n_;
     std::vector<std::string> fields_;
     std::size_t frames_ = 0;
+    std::vector<std::array<std::uint64_t, 2>> runs_;
 };
 
 /// Reads frames one at a time (memory does not grow with the number of frames).

@@ -18,6 +18,8 @@ void write_partition(h5::File& f, const Partition& p) {
     f.set_attr(g, "num_parts", p.num_parts);
     f.set_attr(g, "edge_cut", p.edge_cut);
     f.set_attr(g, "imbalance", p.imbalance);
+    f.set_attr(g, "block_edge_cut", p.block_edge_cut);
+    f.set_attr(g, "block_imbalance", p.block_imbalance);
 }
 
 Partition read_partition(const h5::File& f, std::size_t num_items) {
@@ -31,6 +33,10 @@ Partition read_partition(const h5::File& f, std::size_t num_items) {
     p.num_parts = f.attr<std::int32_t>(g, "num_parts");
     p.edge_cut = f.attr<std::int64_t>(g, "edge_cut");
     p.imbalance = f.attr<double>(g, "imbalance");
+    if (f.has_attr(g, "block_edge_cut")) {
+        p.block_edge_cut = f.attr<std::int64_t>(g, "block_edge_cut");
+        p.block_imbalance = f.attr<double>(g, "block_imbalance");
+    }
     if (p.owner.size() != num_items)
         throw SchemaError(f.name(), g + "/owner",
                           fmt::format("has {} entries, expected {}", p.owner.size(), num_items));

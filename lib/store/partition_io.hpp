@@ -19,6 +19,8 @@ struct Partition {
     std::vector<std::int32_t> owner; ///< part of each body (or node)
     std::int64_t edge_cut = 0;       ///< weighted edges between parts
     double imbalance = 1.0;          ///< max part weight / mean part weight
+    std::int64_t block_edge_cut = 0; ///< the same for consecutive blocks (naive split)
+    double block_imbalance = 1.0;
 };
 
 void write_partition(h5::File& f, const Partition& p);

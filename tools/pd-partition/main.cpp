@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
         ->required()
         ->check(CLI::ExistingFile);
     app.add_option("-n,--parts", opt.num_parts, "number of parts")->required();
-    app.add_option("--by", opt.by, "body (whole grains), node (bond graph) or auto");
+    app.add_option("--by", opt.by, "grain (alias body: whole grains), node (bond graph) or auto");
     pd::add_common_flags(app, opt.common);
     CLI11_PARSE(app, argc, argv);
     return pd::run_tool("pd-partition", argc, argv, opt.common,

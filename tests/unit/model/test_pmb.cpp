@@ -52,6 +52,7 @@ TEST(Pmb, PartialVolume) {
 TEST(Pmb, TwoNodeBondForce) {
     solver::State s;
     s.n = 2;
+    s.rows = {0, 1};
     const double r = 1e-4, stretch = 0.01, vol = 1e-8;
     s.x0 = {0, 0, 0, r, 0, 0};
     s.x = {0, 0, 0, r * (1 + stretch) * std::cos(0.3), r * (1 + stretch) * std::sin(0.3), 0};
@@ -91,6 +92,7 @@ TEST(Pmb, TwoNodeBondForce) {
 TEST(Pmb, BreakingIsSymmetricAndTensionOnly) {
     solver::State s;
     s.n = 2;
+    s.rows = {0, 1};
     const double r = 1e-4;
     s.x0 = {0, 0, 0, r, 0, 0};
     s.f.assign(6, 0);
