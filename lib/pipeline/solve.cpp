@@ -80,11 +80,14 @@ void solve(const SolveOptions& opt, Context& ctx) {
     model::Model m;
     std::optional<store::Checkpoint> ck;
     std::optional<store::Partition> part;
+    double ck_read_seconds = 0;
     {
         h5::File rf(opt.file, h5::Mode::read);
         m = store::read_model(rf); // refuses a file it cannot read, untouched
         if (opt.restart) {
+            const double t0 = wall_seconds();
             ck = store::read_latest_checkpoint(rf, m.nodes.num(), m.bonds.num());
+            ck_read_seconds = wall_seconds() - t0;
             if (!ck)
                 throw InputError(fmt::format("{}: /checkpoints: no checkpoint to restart from "
                                              "(run pd-solve without --restart first)",
@@ -223,8 +226,9 @@ void solve(const SolveOptions& opt, Context& ctx) {
             // The work is a sum over ranks: rank 0 carries what the checkpoint recorded.
             s.set_external_work(ctx.rank == 0 ? ck->external_work : 0.0,
                                 ctx.rank == 0 ? ck->external_power : 0.0);
-            ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s)", ck->step,
-                         ck->time);
+            ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s; read in {:.3g} "
+                         "s)",
+                         ck->step, ck->time, ck_read_seconds);
             ck.reset();
         }
         store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields);
@@ -274,6 +278,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         double next_report = wall_seconds() + opt.progress_seconds;
         Timers& timers = s.timers();
         const int t_out = timers.id("pd::store::output");
+        const int t_ck = timers.id("pd::store::checkpoint");
         solver::Observables last_obs = s.observe();
         for (std::int64_t n = first + 1; n <= last; ++n) {
             s.advance();
@@ -328,7 +333,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
                 write_frame(frames, s, damage, force);
             }
             if (n % ckpt_every == 0 || n == last) {
-                ScopedTimer t(timers, t_out);
+                ScopedTimer t(timers, t_ck);
                 obs.flush();
                 checkpoint();
             }
