@@ -7,25 +7,26 @@
 
 namespace pd::partition {
 
-Graph body_graph(const model::Model& m, double reach) {
+Graph body_graph(const model::Model& m, double reach, const std::vector<double>& where) {
     const auto& B = m.bodies;
     const std::size_t nb = B.num();
+    const auto& centre = where.empty() ? B.center : where;
     std::vector<std::vector<std::int32_t>> adj(nb);
     std::vector<std::size_t> order(nb);
     std::iota(order.begin(), order.end(), 0);
-    auto lo = [&](std::size_t b) { return B.center[3 * b] - B.bounding_radius[b]; };
+    auto lo = [&](std::size_t b) { return centre[3 * b] - B.bounding_radius[b]; };
     std::sort(order.begin(), order.end(), [&](auto a, auto b) { return lo(a) < lo(b); });
     double rmax = 0;
     for (double r : B.bounding_radius)
         rmax = std::max(rmax, r);
     for (std::size_t ia = 0; ia < nb; ++ia) {
         const std::size_t a = order[ia];
-        const double hi = B.center[3 * a] + B.bounding_radius[a] + reach;
+        const double hi = centre[3 * a] + B.bounding_radius[a] + reach;
         for (std::size_t ib = ia + 1; ib < nb && lo(order[ib]) <= hi; ++ib) {
             const std::size_t b = order[ib];
             double d2 = 0;
             for (int k = 0; k < 3; ++k)
-                d2 += std::pow(B.center[3 * a + k] - B.center[3 * b + k], 2);
+                d2 += std::pow(centre[3 * a + k] - centre[3 * b + k], 2);
             const double lim = B.bounding_radius[a] + B.bounding_radius[b] + reach;
             if (d2 < lim * lim) {
                 adj[a].push_back(static_cast<std::int32_t>(b));

@@ -21,7 +21,8 @@ struct Graph {
 /// Grain graph: one vertex per body, weight = its bond count + node count; an edge between two
 /// bodies whose bounding spheres come within `reach` (contact radius plus skin) of each other.
 /// Sweep over bodies sorted by x: O(nb log nb + candidate pairs).
-Graph body_graph(const model::Model& m, double reach);
+/// `centre` (3 per body): where the grains are now (default: their reference centres).
+Graph body_graph(const model::Model& m, double reach, const std::vector<double>& centre = {});
 
 /// Node graph: one vertex per node (weight = its bond count + 1), edges = bonds (weight 1).
 /// For few large bodies (a plate, a single grain).

@@ -13,7 +13,7 @@
 namespace pd::pipeline {
 
 store::Partition make_partition(const model::Model& m, int num_parts, const std::string& by_in,
-                                const std::string& file) {
+                                const std::string& file, const std::vector<double>& centre) {
     if (num_parts < 1)
         throw InputError(fmt::format("-n {}: the number of parts must be at least 1", num_parts));
     if (by_in != "auto" && by_in != "body" && by_in != "grain" && by_in != "node")
@@ -34,7 +34,7 @@ store::Partition make_partition(const model::Model& m, int num_parts, const std:
         for (const auto& c : m.contact)
             reach = std::max(reach, c.radius);
         reach *= 2; // contact radius plus a skin of the same size
-        g = partition::body_graph(m, reach);
+        g = partition::body_graph(m, reach, centre);
     } else {
         g = partition::node_graph(m);
     }

@@ -4,6 +4,7 @@
 #include "core/errors.hpp"
 #include "core/timer.hpp"
 #include "h5/file.hpp"
+#include "partition/graph.hpp"
 #include "pipeline/partition.hpp"
 #include "solver/solver.hpp"
 #include "store/checkpoint_io.hpp"
@@ -70,6 +71,52 @@ std::vector<double> observable_row(const solver::Observables& o) {
     return r;
 }
 
+/// Re-partitions the grains where they are now (--rebalance, at a checkpoint): METIS on the
+/// current grain graph; adopted if it cuts fewer near-grain pairs than the partition in use.
+/// Collective. Returns the new domain (already handed to the solver), or nullptr.
+std::unique_ptr<solver::Domain> rebalance(const model::Model& m, solver::Solver& s,
+                                          const std::vector<std::int32_t>& owner, Context& ctx,
+                                          const std::string& file) {
+    const double t0 = wall_seconds();
+    MPI_Comm comm = s.domain().comm();
+    const auto centre = s.body_centres();
+    const std::size_t nb = m.bodies.num();
+    std::vector<std::int32_t> next(m.nodes.num());
+    std::int64_t cut[2] = {0, 0};
+    if (ctx.rank == 0) {
+        std::vector<std::int32_t> now(nb);
+        bool whole = true;
+        for (std::size_t b = 0; b < nb; ++b) {
+            now[b] = owner[static_cast<std::size_t>(m.bodies.begin(b))];
+            for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i)
+                whole = whole && owner[static_cast<std::size_t>(i)] == now[b];
+        }
+        if (whole && nb >= 4 * static_cast<std::size_t>(ctx.size)) {
+            const auto p = make_partition(m, ctx.size, "body", file, centre);
+            double reach = 0;
+            for (const auto& c : m.contact)
+                reach = std::max(reach, 2 * c.radius);
+            cut[0] = partition::edge_cut(partition::body_graph(m, reach, centre), now);
+            cut[1] = p.edge_cut;
+            next = node_owner(m, p);
+        }
+    }
+    MPI_Bcast(cut, 2, MPI_INT64_T, 0, comm);
+    if (!(cut[1] < cut[0])) {
+        ctx.log.info("rebalance at step {}: kept the partition (near-grain pairs across ranks: "
+                     "{}; a new one: {}; {:.3g} s)",
+                     s.state().step, cut[0], cut[1], wall_seconds() - t0);
+        return nullptr;
+    }
+    MPI_Bcast(next.data(), static_cast<int>(next.size()), MPI_INT32_T, 0, comm);
+    auto dom = std::make_unique<solver::Domain>(comm, std::move(next));
+    s.redistribute(dom.get());
+    ctx.log.info("rebalance at step {}: re-partitioned the grains where they are (near-grain "
+                 "pairs across ranks {} -> {}) in {:.3g} s",
+                 s.state().step, cut[0], cut[1], wall_seconds() - t0);
+    return dom;
+}
+
 } // namespace
 
 void solve(const SolveOptions& opt, Context& ctx) {
@@ -130,8 +177,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
         }
     }
     solver::Solver s(m, dom.get());
-    const auto& domain = s.domain();
     if (par) {
+        const auto& domain = s.domain();
         // Work per rank: bonds plus nodes of the owned rows.
         double work = 0;
         for (auto i : domain.rows())
@@ -233,7 +280,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         }
         store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields);
         if (par)
-            frames.set_runs(domain.runs());
+            frames.set_runs(s.domain().runs());
         store::ObservableWriter obs(*f, s.num_walls());
         if (first == 0) {
             s.initialize();
@@ -253,10 +300,10 @@ void solve(const SolveOptions& opt, Context& ctx) {
             c.f = st.f;
             c.alive = s.bonds().alive;
             c.broken_total = s.broken_total();
-            c.external_work = domain.sum(s.external_work());
-            c.external_power = domain.sum(s.external_power_last());
+            c.external_work = s.domain().sum(s.external_work());
+            c.external_power = s.domain().sum(s.external_power_last());
             if (par) {
-                c.node_runs = domain.runs();
+                c.node_runs = s.domain().runs();
                 for (const auto& r : c.node_runs)
                     c.bond_runs.push_back({static_cast<std::uint64_t>(m.bonds.offsets[r[0]]),
                                            static_cast<std::uint64_t>(m.bonds.offsets[r[1]])});
@@ -337,6 +384,12 @@ void solve(const SolveOptions& opt, Context& ctx) {
                 obs.flush();
                 checkpoint();
             }
+            if (opt.rebalance && par && n % ckpt_every == 0 && n < last) {
+                if (auto next = rebalance(m, s, dom->owner_map(), ctx, opt.file)) {
+                    frames.set_runs(next->runs());
+                    dom = std::move(next); // after s.redistribute(): the old one is done
+                }
+            }
             if (n == last || (wall_seconds() >= next_report && ctx.rank == 0)) {
                 const auto& o = last_obs; // no collective call here: ranks differ in wall time
                 const double el = wall_seconds() - wall0;
@@ -373,6 +426,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
              {"pd::solver::bond_forces", "pd::solver::contact_forces", "pd::solver::contact_search",
               "pd::solver::wall_contact", "pd::solver::integrate", "pd::solver::damping_friction"})
             busy += timers.total(timers.id(name));
+        const auto& domain = s.domain();
         const double mean = domain.sum(busy) / ctx.size;
         ctx.log.info("load balance: compute time max/mean over {} ranks {:.3f} (mean {:.3g} s of "
                      "{:.3g} s wall)",

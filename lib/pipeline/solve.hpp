@@ -16,6 +16,7 @@ struct SolveOptions {
     double final_time = 0;        ///< > 0: overrides /solver/final_time (extend a run)
     std::int64_t max_steps = -1;  ///< stop after this many steps (short runs, tests)
     double progress_seconds = 10; ///< wall time between progress lines
+    bool rebalance = false;       ///< re-partition the grains at checkpoints (MPI)
     CommonOptions common;
 };
 

@@ -37,6 +37,8 @@ class ContactList {
     /// Rebuilds the candidate list if any rank needs it (collective; gathers every position
     /// first under MPI); returns true if it did.
     bool update(State& s, const Domain& dom);
+    /// The next update() rebuilds (after a change of ownership).
+    void invalidate() { built_ = false; }
     /// Appends the candidates owned by other ranks (ghosts the contact forces read).
     void ghosts(std::vector<index_t>& out) const;
     /// Lets node i take part in contact from the next rebuild on (exposed by damage) and asks

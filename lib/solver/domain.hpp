@@ -48,6 +48,8 @@ class Domain {
     bool owns(index_t i) const {
         return size_ == 1 || owner_[static_cast<std::size_t>(i)] == rank_;
     }
+    /// Owner of every node (empty on one rank).
+    const std::vector<std::int32_t>& owner_map() const { return owner_; }
     std::int32_t owner(index_t i) const {
         return size_ == 1 ? 0 : owner_[static_cast<std::size_t>(i)];
     }

@@ -233,17 +233,7 @@ Solver::Solver(const model::Model& m, Domain* dom)
     records_ = damping_ || friction_;
     contact_->set_owned(*dom_);
     if (dom_->distributed()) {
-        if (damping_)
-            for (std::size_t b = 0; b < nb; ++b) {
-                const auto i0 = m.bodies.begin(b);
-                for (auto i = i0; i < m.bodies.end(b); ++i)
-                    if (dom_->owner(i) != dom_->owner(i0))
-                        throw InputError(fmt::format(
-                            "body {} is split between MPI ranks {} and {}, but grain-level "
-                            "damping (restitution < 1) needs whole grains per rank: partition "
-                            "by grain (pd-partition --by grain)",
-                            b, dom_->owner(i0), dom_->owner(i)));
-            }
+        check_whole_grains();
         for (auto i : s_.rows)
             for (auto k = b_.offsets[static_cast<std::size_t>(i)];
                  k < b_.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
@@ -718,6 +708,92 @@ void Solver::apply_friction() {
         wall_load_.moment[3 * w + 1] += rr[2] * F[0] - rr[0] * F[2];
         wall_load_.moment[3 * w + 2] += rr[0] * F[1] - rr[1] * F[0];
     }
+}
+
+void Solver::check_whole_grains() const {
+    if (!damping_ || !dom_->distributed())
+        return;
+    for (std::size_t b = 0; b < m_.bodies.num(); ++b) {
+        const auto i0 = m_.bodies.begin(b);
+        for (auto i = i0; i < m_.bodies.end(b); ++i)
+            if (dom_->owner(i) != dom_->owner(i0))
+                throw InputError(fmt::format(
+                    "body {} is split between MPI ranks {} and {}, but grain-level damping "
+                    "(restitution < 1) needs whole grains per rank: partition by grain "
+                    "(pd-partition --by grain)",
+                    b, dom_->owner(i0), dom_->owner(i)));
+    }
+}
+
+std::vector<double> Solver::body_centres() const {
+    std::vector<double> c(3 * m_.bodies.num(), 0.0);
+    for (auto row : s_.rows) {
+        const auto i = static_cast<std::size_t>(row);
+        const auto b = static_cast<std::size_t>(s_.body[i]);
+        for (std::size_t d = 0; d < 3; ++d)
+            c[3 * b + d] += s_.rho[i] * s_.vol[i] * s_.x[3 * i + d];
+    }
+    dom_->sum(c);
+    for (std::size_t b = 0; b < m_.bodies.num(); ++b)
+        for (std::size_t d = 0; d < 3; ++d)
+            c[3 * b + d] /= body_mass_[b];
+    return c;
+}
+
+void Solver::redistribute(Domain* dom) {
+    // Everything where its old owner has it, on every rank.
+    dom_->allgather(s_.x, 3);
+    dom_->allgather(s_.u, 3);
+    dom_->allgather(s_.v, 3);
+    dom_->allgather(s_.f, 3);
+    dom_->allgather_csr(b_.alive, b_.offsets);
+    // The unloading factors of the last evaluation (friction limits of the next one).
+    std::vector<double> mine;
+    for (const auto& [key, value] : unload_)
+        mine.insert(mine.end(), {double(key.first), double(key.second), value});
+    const double work = dom_->sum(external_work_), power = dom_->sum(power_);
+    if (dom_->distributed()) {
+        int len = static_cast<int>(mine.size());
+        std::vector<int> lens(static_cast<std::size_t>(dom_->size()));
+        MPI_Allgather(&len, 1, MPI_INT, lens.data(), 1, MPI_INT, dom_->comm());
+        std::vector<int> disp(lens.size() + 1, 0);
+        for (std::size_t p = 0; p < lens.size(); ++p)
+            disp[p + 1] = disp[p] + lens[p];
+        std::vector<double> all(static_cast<std::size_t>(disp.back()));
+        MPI_Allgatherv(mine.data(), len, MPI_DOUBLE, all.data(), lens.data(), disp.data(),
+                       MPI_DOUBLE, dom_->comm());
+        for (std::size_t k = 0; k + 2 < all.size(); k += 3)
+            unload_[{static_cast<std::int32_t>(all[k]), static_cast<std::int32_t>(all[k + 1])}] =
+                all[k + 2];
+    }
+    // The new rows.
+    dom_ = dom;
+    if (dom_->num_nodes() != s_.n)
+        throw InternalError("redistribute: a domain of another model");
+    check_whole_grains();
+    s_.rows = dom_->rows();
+    external_work_ = dom_->rank() == 0 ? work : 0.0;
+    power_ = dom_->rank() == 0 ? power : 0.0;
+    broken_total_ = 0;
+    for (auto row : s_.rows)
+        for (auto k = b_.offsets[static_cast<std::size_t>(row)];
+             k < b_.offsets[static_cast<std::size_t>(row) + 1]; ++k)
+            broken_total_ += b_.alive[static_cast<std::size_t>(k)] ? 0 : 1;
+    exposed_at_ = -1;
+    contact_->set_owned(*dom_);
+    contact_->invalidate();
+    walls_->invalidate();
+    bond_ghosts_.clear();
+    for (auto i : s_.rows)
+        for (auto k = b_.offsets[static_cast<std::size_t>(i)];
+             k < b_.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
+            const auto j = b_.neighbor[static_cast<std::size_t>(k)];
+            if (!dom_->owns(j))
+                bond_ghosts_.push_back(j);
+        }
+    std::sort(bond_ghosts_.begin(), bond_ghosts_.end());
+    bond_ghosts_.erase(std::unique(bond_ghosts_.begin(), bond_ghosts_.end()), bond_ghosts_.end());
+    dom_->set_ghosts(bond_ghosts_); // contact ghosts join at the next (forced) rebuild
 }
 
 void Solver::set_ghosts() {

@@ -89,6 +89,13 @@ class Solver {
     void restore(std::int64_t step, double time, const std::vector<double>& u,
                  const std::vector<double>& v, const std::vector<double>& f,
                  const std::vector<std::uint8_t>& alive, std::int64_t broken_total);
+    /// Hands the nodes over to another decomposition of the same ranks (re-partitioning at a
+    /// checkpoint): every rank first receives the whole state, then keeps computing its new
+    /// rows. Collective; the run continues exactly as it would have. `dom` must outlive the
+    /// solver or the next call.
+    void redistribute(Domain* dom);
+    /// Centre of mass of every body (3 per body), over all ranks. Collective.
+    std::vector<double> body_centres() const;
     /// Sets u, v, x of prescribed components at time s.time (spec 5.6).
     void apply_displacements();
     /// Number of bond ends that cross a pre-crack (broken at initialize()), over all ranks.
@@ -112,6 +119,7 @@ class Solver {
     void apply_friction();
 
     void set_ghosts();
+    void check_whole_grains() const;
 
     const model::Model& m_;
     std::unique_ptr<Domain> serial_; ///< the one-rank domain when none is given

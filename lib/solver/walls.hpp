@@ -54,6 +54,8 @@ class WallContact {
     /// touching node-wall pairs whose law damps or has friction (sorted by node).
     void add_forces(State& s, WallLoad& load, std::vector<BodyWallForce>* normal) const;
     std::size_t num_walls() const { return walls_.size(); }
+    /// The next update() rebuilds (after a change of ownership).
+    void invalidate() { built_ = false; }
     std::int64_t rebuilds() const { return rebuilds_; }
     double max_radius() const { return rc_max_; }
 

@@ -158,3 +158,24 @@ def test_plain_h5py_reads_every_frame_written_by_4_ranks(tmp_path):
             assert np.abs(x[:, :2]).max() > 0
     subprocess.run(["/usr/bin/python3", f"{SRC}/data-schema/check_pd_file.py", str(f)],
                    check=True)
+
+
+def test_rebalance_repartitions_and_keeps_the_answer(tmp_path):
+    base, by = pack(tmp_path, "pack50")
+    ref = run(tmp_path, base, by, 1)
+    f = tmp_path / "rebalanced.h5"
+    shutil.copy(base, f)
+    mpirun(1, "pd-partition", str(f), "-n", "2", "--by", "grain", "-q")
+    with h5py.File(f, "r+") as h:  # a poor partition: alternate grains between the ranks
+        owner = h["partition/owner"]
+        owner[...] = np.arange(owner.shape[0]) % 2
+    out = mpirun(2, "pd-solve", str(f), "--rebalance").stdout
+    moves = [line for line in out.splitlines() if "re-partitioned" in line]
+    print("\n".join(moves[:2]))
+    assert moves, out
+    first = moves[0].split("ranks ")[1].split(")")[0]  # "36 -> 4"
+    before, after = (int(v) for v in first.split(" -> "))
+    assert after < before / 3
+    frames, obs, damage = worst_difference(ref, f)
+    print(f"rebalanced run against 1 rank: frames {frames:.3g}, observables {obs:.3g}")
+    assert frames <= TOL and obs <= TOL and damage
