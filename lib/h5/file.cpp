@@ -471,8 +471,8 @@ std::vector<T> File::read_rows(const std::string& path, std::uint64_t row0,
 }
 
 template <Element T>
-void File::create_extendible(const std::string& path, const dims_t& inner,
-                             std::uint64_t chunk_rows) {
+void File::create_extendible(const std::string& path, const dims_t& inner, std::uint64_t chunk_rows,
+                             int deflate) {
     ensure_parent(path);
     remove(path);
     std::vector<hsize_t> cur{0}, max{H5S_UNLIMITED}, chunk{std::max<std::uint64_t>(1, chunk_rows)};
@@ -484,6 +484,8 @@ void File::create_extendible(const std::string& path, const dims_t& inner,
     Handle space(H5Screate_simple(static_cast<int>(cur.size()), cur.data(), max.data()));
     Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
     H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data());
+    if (deflate > 0 && H5Pset_deflate(dcpl.get(), static_cast<unsigned>(std::min(deflate, 9))) < 0)
+        fail(path, "gzip compression is not available in this HDF5 build");
     Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT, dcpl.get(),
                         H5P_DEFAULT));
     if (!d.valid())
@@ -669,7 +671,8 @@ std::vector<std::string> File::attr_names(const std::string& path) const {
     template T File::read_scalar<T>(const std::string&) const;                                     \
     template std::vector<T> File::read_rows<T>(const std::string&, std::uint64_t, std::uint64_t)   \
         const;                                                                                     \
-    template void File::create_extendible<T>(const std::string&, const dims_t&, std::uint64_t);    \
+    template void File::create_extendible<T>(const std::string&, const dims_t&, std::uint64_t,     \
+                                             int);                                                 \
     template void File::append<T>(const std::string&, std::span<const T>, std::uint64_t);          \
     template void File::write_rows<T>(const std::string&, std::span<const T>, std::uint64_t,       \
                                       std::uint64_t);                                              \

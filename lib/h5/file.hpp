@@ -109,9 +109,11 @@ class File {
     std::vector<T> read_rows(const std::string& path, std::uint64_t row0,
                              std::uint64_t count) const;
 
-    /// Creates an empty dataset of shape (0, inner...) extendible along axis 0, chunked.
+    /// Creates an empty dataset of shape (0, inner...) extendible along axis 0, chunked;
+    /// `deflate` 1-9 compresses the chunks (gzip; under MPI-IO with collective writes).
     template <Element T>
-    void create_extendible(const std::string& path, const dims_t& inner, std::uint64_t chunk_rows);
+    void create_extendible(const std::string& path, const dims_t& inner, std::uint64_t chunk_rows,
+                           int deflate = 0);
     /// Appends `rows` rows (each the product of the inner dims) along axis 0.
     template <Element T>
     void append(const std::string& path, std::span<const T> data, std::uint64_t rows);

@@ -278,7 +278,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
                          ck->step, ck->time, ck_read_seconds);
             ck.reset();
         }
-        store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields);
+        store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields, opt.compress);
         if (par)
             frames.set_runs(s.domain().runs());
         store::ObservableWriter obs(*f, s.num_walls());

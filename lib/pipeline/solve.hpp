@@ -17,6 +17,7 @@ struct SolveOptions {
     std::int64_t max_steps = -1;  ///< stop after this many steps (short runs, tests)
     double progress_seconds = 10; ///< wall time between progress lines
     bool rebalance = false;       ///< re-partition the grains at checkpoints (MPI)
+    int compress = 0;             ///< gzip level 1-9 of new frame datasets (0: none)
     CommonOptions common;
 };
 

@@ -51,7 +51,8 @@ void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& spec
     f.set_attr(P + "/mass", "unit", "kg");
 }
 
-FrameWriter::FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields)
+FrameWriter::FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields,
+                         int deflate)
     : f_(f)
     , n_(num_nodes) {
     fields_.push_back("position");
@@ -83,7 +84,7 @@ FrameWriter::FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::st
         h5::dims_t inner{n_};
         if (fi.components == 3)
             inner.push_back(3);
-        f_.create_extendible<double>(g + "/value", inner, 1);
+        f_.create_extendible<double>(g + "/value", inner, 1, deflate);
         f_.set_attr(g + "/value", "unit", fi.unit);
         if (name != "position") {
             f_.hard_link(pos + "/step", g + "/step");

@@ -33,7 +33,9 @@ const std::vector<FieldInfo>& frame_fields();
 class FrameWriter {
   public:
     /// `fields` are names from frame_fields(); position is always written.
-    FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields);
+    /// `deflate` 1-9: gzip-compressed frames (0: none).
+    FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::string> fields,
+                int deflate = 0);
     /// Under MPI: this rank writes only these nodes of each frame (their values in `data` at
     /// their own places); empty = all nodes.
     void set_runs(std::vector<std::array<std::uint64_t, 2>> runs) { runs_ = std::move(runs); }

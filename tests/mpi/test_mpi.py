@@ -43,12 +43,12 @@ def pack(tmp_path, name):
     return f, by
 
 
-def run(tmp_path, base, by, ranks):
+def run(tmp_path, base, by, ranks, *extra):
     f = tmp_path / f"{base.stem}_{ranks}.h5"
     shutil.copy(base, f)
     if ranks > 1:
         mpirun(1, "pd-partition", str(f), "-n", str(ranks), "--by", by[ranks], "-q")
-    mpirun(ranks, "pd-solve", str(f), "-q")
+    mpirun(ranks, "pd-solve", str(f), "-q", *extra)
     return f
 
 
@@ -144,8 +144,9 @@ def test_sigkill_then_restart_on_1_and_4_ranks(tmp_path):
 
 def test_plain_h5py_reads_every_frame_written_by_4_ranks(tmp_path):
     base, by = pack(tmp_path, "pack50")
-    f = run(tmp_path, base, by, 4)
+    f = run(tmp_path, base, by, 4, "--compress", "4")  # gzip chunks, written in parallel
     with h5py.File(f, "r") as h:
+        assert h["particles/nodes/position/value"].compression == "gzip"
         runs = [h["provenance"][k] for k in h["provenance"]]  # rank 0, after the parallel run
         assert any(r.attrs["tool"] == "pd-solve" and r.attrs["mpi_ranks"] == 4 for r in runs)
         pos = h["particles/nodes/position/value"]

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
     app.add_option("--steps", opt.max_steps, "stop after N steps (short runs)");
     app.add_flag("--force-dt", opt.force_dt, "accept a scene dt above the stability estimate");
     app.add_flag("--restart", opt.restart, "continue from the latest checkpoint in the file");
+    app.add_option("--compress", opt.compress, "gzip level 1-9 of the frames (0: none)")
+        ->check(CLI::Range(0, 9));
     app.add_flag("--rebalance", opt.rebalance,
                  "under MPI: re-partition the grains where they are at each checkpoint");
     app.add_option("--final-time", opt.final_time, "override the scene's final time (s)");
