@@ -31,6 +31,14 @@ std::string utc_now() {
     return buf;
 }
 
+namespace {
+/// An error every rank raised alike is reported once, by rank 0.
+void report(const Context& ctx, const std::exception& e) {
+    if (ctx.rank == 0 || !ctx.errors_collective)
+        ctx.log.error(e.what());
+}
+} // namespace
+
 int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions& opt,
              const std::function<void(Context&)>& body) {
     mpi::Session session(&argc, &argv);
@@ -50,14 +58,14 @@ int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions
     try {
         body(ctx);
     } catch (const InputError& e) {
-        ctx.log.error(e.what());
         code = exit_input;
+        report(ctx, e);
     } catch (const NumericalError& e) {
-        ctx.log.error(e.what());
         code = exit_numerical;
+        report(ctx, e);
     } catch (const std::exception& e) {
-        ctx.log.error(e.what());
         code = exit_internal;
+        report(ctx, e);
     }
     if (ctx.on_exit) {
         try {
@@ -68,7 +76,7 @@ int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions
                 code = exit_internal;
         }
     }
-    if (code != exit_ok && session.size() > 1)
+    if (code != exit_ok && session.size() > 1 && !ctx.errors_collective)
         MPI_Abort(MPI_COMM_WORLD, code);
     return code;
 }

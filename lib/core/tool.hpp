@@ -44,6 +44,9 @@ struct Context {
     /// Set by a pipeline step that owns a file: called once with the exit code before exit,
     /// so the file records the run's status in /provenance even when the run failed.
     std::function<void(int exit_code)> on_exit;
+    /// Set by a step whose error every rank raised alike: the ranks then exit together with
+    /// the error's code; otherwise a failing rank aborts them all (MPI_Abort).
+    bool errors_collective = false;
 };
 
 /// Adds --quiet, -v/--verbose and --version to a CLI11 app.

@@ -123,7 +123,9 @@ void solve(const SolveOptions& opt, Context& ctx) {
     const double wall0 = wall_seconds();
     const bool par = ctx.size > 1;
     MPI_Comm comm = MPI_COMM_WORLD;
-    // Phase 1, every rank: read the model (and the checkpoint) read-only.
+    // Phase 1, every rank: read the model (and the checkpoint) read-only. Up to phase 2 every
+    // rank works on the same data, so every rank raises the same errors.
+    ctx.errors_collective = true;
     model::Model m;
     std::optional<store::Checkpoint> ck;
     std::optional<store::Partition> part;
@@ -243,6 +245,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         ctx.log.info("contact: off (no two bodies or walls with a contact law)");
 
     // Phase 2, rank 0 alone: prepare the file (metadata only, serial).
+    ctx.errors_collective = false;
     if (ctx.rank == 0) {
         h5::File wf(opt.file, h5::Mode::read_write);
         if (ck) {
@@ -355,12 +358,22 @@ void solve(const SolveOptions& opt, Context& ctx) {
                     const auto& st = s.state();
                     std::size_t fast = 0;
                     double vmax = -1;
-                    for (std::size_t i = 0; i < st.n; ++i) {
+                    for (auto row : st.rows) {
+                        const auto i = static_cast<std::size_t>(row);
                         const double v = std::hypot(st.v[3 * i], st.v[3 * i + 1], st.v[3 * i + 2]);
                         if (v > vmax) {
                             vmax = v;
                             fast = i;
                         }
+                    }
+                    if (par) { // the fastest node of all ranks
+                        struct {
+                            double v;
+                            int i;
+                        } mine{vmax, static_cast<int>(fast)}, all{};
+                        MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm);
+                        vmax = all.v;
+                        fast = static_cast<std::size_t>(all.i);
                     }
                     throw NumericalError(fmt::format(
                         "{}: blow-up at step {} (t = {:.6g} s): energy {:.4g} J against {:.4g} J "
@@ -404,6 +417,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         obs.flush();
         nframes = frames.frames();
     } catch (const std::exception& e) {
+        ctx.errors_collective = agreed;
         if (par && !agreed) {
             ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));
             MPI_Abort(comm, dynamic_cast<const InputError*>(&e)       ? exit_input

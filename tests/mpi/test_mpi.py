@@ -180,3 +180,20 @@ def test_rebalance_repartitions_and_keeps_the_answer(tmp_path):
     frames, obs, damage = worst_difference(ref, f)
     print(f"rebalanced run against 1 rank: frames {frames:.3g}, observables {obs:.3g}")
     assert frames <= TOL and obs <= TOL and damage
+
+
+def test_a_blow_up_stops_every_rank_with_one_message(tmp_path):
+    scene = dict(scenes.TWO_DISCS, solver=dict(scenes.TWO_DISCS["solver"], dt=3e-6))
+    f = tmp_path / "blow.h5"
+    subprocess.run([f"{BIN}/pd-pack", str(scenes.write(scene, tmp_path / "blow.json")), "-o",
+                    str(f), "-q"], check=True, env=ENV)
+    mpirun(1, "pd-partition", str(f), "-n", "2", "--by", "grain", "-q")
+    r = subprocess.run(["mpirun", "--oversubscribe", "-np", "2", f"{BIN}/pd-solve", str(f),
+                        "--force-dt"], env=ENV, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 3
+    assert r.stderr.count("blow-up at step") == 1, r.stderr  # rank 0 reports, nobody hangs
+    assert "MPI_ABORT" not in r.stderr
+    with h5py.File(f, "r") as h:  # readable, the good frames kept, the status recorded
+        assert h["particles/nodes/position/value"].shape[0] >= 1
+        last = sorted(h["provenance"])[-1]
+        assert h["provenance"][last].attrs["exit_status"] == 3
