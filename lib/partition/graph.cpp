@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
+#include <unordered_map>
 
 namespace pd::partition {
 
@@ -34,11 +36,67 @@ Graph body_graph(const model::Model& m, double reach, const std::vector<double>&
             }
         }
     }
+    // Edge weights: the near node pairs (surface nodes closer than `reach`) of the two grains,
+    // at least 1: what their ranks would exchange as contact ghosts. Grains displaced to
+    // `where` are moved rigidly (rotation ignored).
+    std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> pairs;
+    if (reach > 0) {
+        std::vector<double> shift(3 * nb, 0.0);
+        if (!where.empty())
+            for (std::size_t k = 0; k < 3 * nb; ++k)
+                shift[k] = where[k] - B.center[k];
+        std::vector<std::uint8_t> linked(nb, 0);
+        for (std::size_t b = 0; b < nb; ++b)
+            linked[b] = adj[b].empty() ? 0 : 1;
+        auto pos = [&](std::size_t i, int d) {
+            const auto b = static_cast<std::size_t>(m.nodes.body[i]);
+            return m.nodes.x0[3 * i + static_cast<std::size_t>(d)] +
+                   shift[3 * b + static_cast<std::size_t>(d)];
+        };
+        auto key = [](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+            return ((cx + (1 << 20)) << 42) | ((cy + (1 << 20)) << 21) | (cz + (1 << 20));
+        };
+        auto cell = [&](std::size_t i, int d) {
+            return static_cast<std::int64_t>(std::floor(pos(i, d) / reach));
+        };
+        std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
+        for (std::size_t i = 0; i < m.nodes.num(); ++i)
+            if ((m.nodes.surface.empty() || m.nodes.surface[i]) &&
+                linked[static_cast<std::size_t>(m.nodes.body[i])])
+                cells[key(cell(i, 0), cell(i, 1), cell(i, 2))].push_back(i);
+        const int zr = m.dimension == 3 ? 1 : 0;
+        for (const auto& [k, nodes] : cells) {
+            const auto i0 = nodes.front();
+            const auto cx = cell(i0, 0), cy = cell(i0, 1), cz = cell(i0, 2);
+            for (int dx = -1; dx <= 1; ++dx)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dz = -zr; dz <= zr; ++dz) {
+                        auto it = cells.find(key(cx + dx, cy + dy, cz + dz));
+                        if (it == cells.end())
+                            continue;
+                        for (auto i : nodes)
+                            for (auto j : it->second) {
+                                const auto bi = m.nodes.body[i], bj = m.nodes.body[j];
+                                if (bi >= bj)
+                                    continue; // each pair once, no same-grain pairs
+                                double d2 = 0;
+                                for (int d = 0; d < 3; ++d)
+                                    d2 += std::pow(pos(j, d) - pos(i, d), 2);
+                                if (d2 < reach * reach)
+                                    ++pairs[{bi, bj}];
+                            }
+                    }
+        }
+    }
     Graph g;
     for (std::size_t b = 0; b < nb; ++b) {
         std::sort(adj[b].begin(), adj[b].end());
         g.adjncy.insert(g.adjncy.end(), adj[b].begin(), adj[b].end());
-        g.adjwgt.insert(g.adjwgt.end(), adj[b].size(), 1);
+        for (auto c : adj[b]) {
+            const auto it = pairs.find({std::min(static_cast<std::int32_t>(b), c),
+                                        std::max(static_cast<std::int32_t>(b), c)});
+            g.adjwgt.push_back(it == pairs.end() ? 1 : std::max(1, it->second));
+        }
         g.xadj.push_back(static_cast<std::int32_t>(g.adjncy.size()));
         const auto i0 = B.begin(b), i1 = B.end(b);
         const auto bonds = m.bonds.offsets[static_cast<std::size_t>(i1)] -

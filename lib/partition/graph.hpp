@@ -19,7 +19,8 @@ struct Graph {
 };
 
 /// Grain graph: one vertex per body, weight = its bond count + node count; an edge between two
-/// bodies whose bounding spheres come within `reach` (contact radius plus skin) of each other.
+/// bodies whose bounding spheres come within `reach` (contact radius plus skin) of each other,
+/// weighted by their surface-node pairs closer than `reach` (at least 1).
 /// Sweep over bodies sorted by x: O(nb log nb + candidate pairs).
 /// `centre` (3 per body): where the grains are now (default: their reference centres).
 Graph body_graph(const model::Model& m, double reach, const std::vector<double>& centre = {});

@@ -103,16 +103,16 @@ std::unique_ptr<solver::Domain> rebalance(const model::Model& m, solver::Solver&
     }
     MPI_Bcast(cut, 2, MPI_INT64_T, 0, comm);
     if (!(cut[1] < cut[0])) {
-        ctx.log.info("rebalance at step {}: kept the partition (near-grain pairs across ranks: "
-                     "{}; a new one: {}; {:.3g} s)",
+        ctx.log.info("rebalance at step {}: kept the partition (edge cut {}, a new one {}; "
+                     "{:.3g} s)",
                      s.state().step, cut[0], cut[1], wall_seconds() - t0);
         return nullptr;
     }
     MPI_Bcast(next.data(), static_cast<int>(next.size()), MPI_INT32_T, 0, comm);
     auto dom = std::make_unique<solver::Domain>(comm, std::move(next));
     s.redistribute(dom.get());
-    ctx.log.info("rebalance at step {}: re-partitioned the grains where they are (near-grain "
-                 "pairs across ranks {} -> {}) in {:.3g} s",
+    ctx.log.info("rebalance at step {}: re-partitioned the grains where they are (edge cut: "
+                 "near node pairs across ranks {} -> {}) in {:.3g} s",
                  s.state().step, cut[0], cut[1], wall_seconds() - t0);
     return dom;
 }

@@ -174,7 +174,7 @@ def test_rebalance_repartitions_and_keeps_the_answer(tmp_path):
     moves = [line for line in out.splitlines() if "re-partitioned" in line]
     print("\n".join(moves[:2]))
     assert moves, out
-    first = moves[0].split("ranks ")[1].split(")")[0]  # "36 -> 4"
+    first = moves[0].split("across ranks ")[1].split(")")[0]  # "203 -> 6"
     before, after = (int(v) for v in first.split(" -> "))
     assert after < before / 3
     frames, obs, damage = worst_difference(ref, f)

@@ -39,7 +39,16 @@ def test_by_grain_and_by_node(tmp_path):
         reach = 2 * h["contact/radius"][:].max()
         d = np.linalg.norm(c[:, None, :] - c[None, :, :], axis=2)
         near = (d < r[:, None] + r[None, :] + reach) & ~np.eye(len(r), dtype=bool)
-        cut = (near & (owner[:, None] != owner[None, :])).sum() // 2
+        # Weight of each edge: the grains' surface-node pairs closer than reach, at least 1.
+        x = h["nodes/reference_position"][:]
+        body = h["nodes/body"][:]
+        surf = h["nodes/surface"][:].astype(bool)
+        cut = 0
+        for a, b in zip(*np.nonzero(np.triu(near & (owner[:, None] != owner[None, :])))):
+            xa = x[(body == a) & surf]
+            xb = x[(body == b) & surf]
+            pairs = (np.linalg.norm(xa[:, None, :] - xb[None, :, :], axis=2) < reach).sum()
+            cut += max(1, pairs)
         assert cut == p.attrs["edge_cut"]
     assert part(f, "-n", 4, "--by", "node").returncode == 0
     with h5py.File(f, "r") as h:
