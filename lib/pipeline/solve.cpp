@@ -326,6 +326,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
                 energy0 = ke->second.value[0] + ee->second.value[0] + ce->second.value[0];
         }
         double next_report = wall_seconds() + opt.progress_seconds;
+        s.timers().add(s.timers().id("pd::setup"), wall_seconds() - wall0); // read, build, t = 0
         Timers& timers = s.timers();
         const int t_out = timers.id("pd::store::output");
         const int t_ck = timers.id("pd::store::checkpoint");

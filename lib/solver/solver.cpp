@@ -255,6 +255,8 @@ Solver::Solver(const model::Model& m, Domain* dom)
     t_integrate_ = timers_.id("pd::solver::integrate");
     t_walls_ = timers_.id("pd::solver::wall_contact");
     t_damping_ = timers_.id("pd::solver::damping_friction");
+    if (dom_->distributed())
+        t_halo_ = timers_.id("pd::solver::halo_exchange");
 }
 
 StableDt Solver::stable_dt() const {
@@ -314,7 +316,10 @@ void Solver::compute_forces() {
         if (law_.any_lps) {
             std::function<void()> between;
             if (dom_->distributed())
-                between = [this] { dom_->exchange({&law_.theta}, 1); };
+                between = [this] {
+                    ScopedTimer t(timers_, t_halo_);
+                    dom_->exchange({&law_.theta}, 1);
+                };
             auto res = lps_bond_forces(s_, b_, law_, between);
             elastic_energy_ += res.elastic_energy;
             broken_total_ += res.newly_broken;
@@ -848,7 +853,10 @@ void Solver::advance() {
     s_.time += dt;
     ++s_.step;
     apply_displacements();
-    dom_->exchange({&s_.x, &s_.u, &s_.v}, 3);
+    if (dom_->distributed()) {
+        ScopedTimer t(timers_, t_halo_);
+        dom_->exchange({&s_.x, &s_.u, &s_.v}, 3);
+    }
     compute_forces();
     if (verlet) {
         ScopedTimer t(timers_, t_integrate_);

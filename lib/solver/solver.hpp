@@ -153,7 +153,7 @@ class Solver {
     double power_ = 0; ///< external power at the last force evaluation
     bool initialized_ = false;
     Timers timers_;
-    int t_bonds_, t_contact_, t_search_, t_integrate_, t_walls_, t_damping_;
+    int t_bonds_, t_contact_, t_search_, t_integrate_, t_walls_, t_damping_, t_halo_ = 0;
 };
 
 } // namespace pd::solver
