@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Polygonal regions (polygons with holes) for the geometry module: Boolean union/difference,
 // area, centroid, containment and distance to the boundary. Doubles in, doubles out; CGAL lives
-// only in region.cpp (the module's one CGAL translation unit, STYLE 2.1 "inside.cpp").
-// Internal to pd::geometry: other modules use Shape.
+// only in region.cpp (the module's 2D CGAL translation unit, STYLE 2.1 "inside.cpp"; 3D:
+// solid.cpp). Internal to pd::geometry: other modules use Shape.
 #pragma once
 
 #include <array>

@@ -1,16 +1,19 @@
 // SPDX-License-Identifier: MIT
 // Shape: factories with input checks, exact measures of primitives, CSG evaluated on the tree
-// (containment) or on the exact Boolean result of the polygonal boundaries (area, centroid,
-// distance; region.cpp). Derived quantities are computed once, when a shape is made or placed.
+// (containment) or on the exact Boolean result of the polygonal boundaries (2D area, centroid,
+// distance; region.cpp) or by octree quadrature (3D volume, centroid); closed surface meshes
+// (solid.cpp). Derived quantities are computed once, when a shape is made or placed.
 #include "geometry/shapes.hpp"
 
 #include "core/errors.hpp"
 #include "geometry/region.hpp"
+#include "geometry/solid.hpp"
 
 #include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 
@@ -18,6 +21,7 @@ namespace pd::geometry {
 
 using detail::Region;
 using detail::Ring;
+using detail::Solid;
 
 struct Shape::Node {
     ShapeKind kind = ShapeKind::circle;
@@ -27,10 +31,12 @@ struct Shape::Node {
     std::vector<Shape> children;
     Placement place;
     std::string label;
+    std::string file; ///< surface_mesh: the STL path
     // Derived, in the node's own frame.
     double measure = 0;
     Vec3 local_centroid{0, 0, 0};
-    std::shared_ptr<const Region> region; ///< ellipse, polygonal kinds but rectangle, CSG
+    std::shared_ptr<const Region> region; ///< ellipse, polygonal kinds but rectangle, 2D CSG
+    std::shared_ptr<const Solid> solid;   ///< surface_mesh
     double tol = 0; ///< how far the region's boundary may lie inside the true boundary, m
     // Derived, after placement.
     double bounding_radius = 0;
@@ -172,6 +178,8 @@ double farthest(const Node& n, const Placement& P) {
     }
     case ShapeKind::difference: {
         const Node& base = node_of(n.children[0]);
+        if (n.dim == 3)
+            return farthest(base, P.compose(base.place));
         std::vector<Vec2> pts;
         for (const auto& ring : n.region->rings())
             pts.insert(pts.end(), ring.begin(), ring.end());
@@ -192,6 +200,14 @@ double farthest(const Node& n, const Placement& P) {
     case ShapeKind::cylinder: {
         const double a = cxy + n.params[0], b = std::abs(c[2]) + 0.5 * n.params[1];
         return std::sqrt(a * a + b * b);
+    }
+    case ShapeKind::surface_mesh: {
+        double r = 0;
+        for (const auto& v : n.solid->vertices()) {
+            const Vec3 q = P.apply(v);
+            r = std::max(r, std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]));
+        }
+        return r;
     }
     default:
         return max_over(n.verts, 0);
@@ -242,6 +258,10 @@ std::array<double, 6> bounds(const Node& n, const Placement& P) {
         grow({c[0] - n.params[0], c[1] - n.params[0], c[2] - 0.5 * n.params[1]});
         grow({c[0] + n.params[0], c[1] + n.params[0], c[2] + 0.5 * n.params[1]});
         break;
+    case ShapeKind::surface_mesh:
+        for (const auto& v : n.solid->vertices())
+            grow(P.apply(v));
+        break;
     default:
         for (const auto& v : n.verts)
             grow(P.apply({v[0], v[1], 0}));
@@ -290,6 +310,8 @@ int classify(const Node& n, const Vec3& X) {
                          compare(std::abs(z), 0.5 * p[2])});
     case ShapeKind::cylinder:
         return std::min(compare(x * x + y * y, p[0] * p[0]), compare(std::abs(z), 0.5 * p[1]));
+    case ShapeKind::surface_mesh:
+        return n.solid->classify(X);
     default:
         return n.region->classify(x, y);
     }
@@ -329,6 +351,26 @@ double clearance_local(const Node& n, const Vec3& X) {
         const double outside = hypot2(std::max(dr, 0.0), std::max(dz, 0.0));
         return -(inside + outside);
     }
+    case ShapeKind::surface_mesh: {
+        const int c = n.solid->classify(X);
+        const double d = n.solid->surface_distance(X);
+        return c > 0 ? d : (c == 0 ? 0 : -d);
+    }
+    case ShapeKind::unite:
+    case ShapeKind::difference:
+        if (n.dim == 3) {
+            // max (union) / min (difference, tools negated) of the parts' signed distances: the
+            // same sign as the CSG and never larger in magnitude than the true distance.
+            auto part = [&](std::size_t i) {
+                const Node& ch = node_of(n.children[i]);
+                return clearance_local(ch, ch.place.apply_inverse(X));
+            };
+            double f = part(0);
+            for (std::size_t i = 1; i < n.children.size(); ++i)
+                f = n.kind == ShapeKind::unite ? std::max(f, part(i)) : std::min(f, -part(i));
+            return f;
+        }
+        [[fallthrough]];
     default: {
         const int c = classify(n, X);
         const double d = n.region->boundary_distance(X[0], X[1]);
@@ -339,6 +381,41 @@ double clearance_local(const Node& n, const Vec3& X) {
 
 std::string fmt_len(double v) {
     return fmt::format("{:g}", v);
+}
+
+/// Volume and centroid of a 3D node (own frame) by adaptive octree quadrature (csg_octree_depth).
+std::pair<double, Vec3> octree_moments(const Node& n) {
+    const auto b = bounds(n, Placement{});
+    const double side = std::max({b[3] - b[0], b[4] - b[1], b[5] - b[2]}) * (1 + 1e-9);
+    double v = 0, m[3] = {0, 0, 0};
+    const double sqrt3 = std::sqrt(3.0);
+    auto visit = [&](auto&& self, const Vec3& c, double h, int depth) -> void {
+        const double f = clearance_local(n, c), vol = 8 * h * h * h;
+        double w = 0;
+        if (f >= sqrt3 * h) {
+            w = vol;
+        } else if (f <= -sqrt3 * h) {
+            return;
+        } else if (depth > 0) {
+            const double q = 0.5 * h;
+            for (int k = 0; k < 8; ++k)
+                self(
+                    self,
+                    Vec3{c[0] + (k & 1 ? q : -q), c[1] + (k & 2 ? q : -q), c[2] + (k & 4 ? q : -q)},
+                    q, depth - 1);
+            return;
+        } else {
+            w = vol * std::clamp(0.5 + f / (2 * h), 0.0, 1.0);
+        }
+        v += w;
+        for (int i = 0; i < 3; ++i)
+            m[i] += w * c[static_cast<std::size_t>(i)];
+    };
+    visit(visit, Vec3{0.5 * (b[0] + b[3]), 0.5 * (b[1] + b[4]), 0.5 * (b[2] + b[5])}, 0.5 * side,
+          csg_octree_depth);
+    if (!(v > 0))
+        return {0, {0, 0, 0}};
+    return {v, {m[0] / v, m[1] / v, m[2] / v}};
 }
 
 /// Fills the derived fields of a node whose kind, parameters, vertices and children are set.
@@ -354,6 +431,14 @@ std::shared_ptr<const Node> finish(Node n) {
         break;
     case ShapeKind::unite:
     case ShapeKind::difference: {
+        if (n.dim == 3) {
+            const auto [v, c] = octree_moments(n);
+            if (!(v > 0))
+                throw InputError(fmt::format("{}: the result is empty", n.label));
+            n.measure = v;
+            n.local_centroid = c;
+            break;
+        }
         for (const auto& ch : n.children)
             n.tol = std::max(n.tol, node_of(ch).tol);
         auto r = std::make_shared<const Region>(build_region(n, Placement{}));
@@ -372,6 +457,10 @@ std::shared_ptr<const Node> finish(Node n) {
         break;
     case ShapeKind::cylinder:
         n.measure = pi * n.params[0] * n.params[0] * n.params[1];
+        break;
+    case ShapeKind::surface_mesh:
+        n.measure = n.solid->volume();
+        n.local_centroid = n.solid->centroid();
         break;
     default: { // polygonal
         if (n.kind != ShapeKind::rectangle)
@@ -496,13 +585,14 @@ Shape Shape::polygon(std::vector<Vec2> vertices) {
 namespace {
 Shape csg(ShapeKind kind, std::vector<Shape> parts, const char* op) {
     std::vector<std::string> names;
+    const int dim = parts.front().dimension();
     for (std::size_t i = 0; i < parts.size(); ++i) {
-        if (parts[i].dimension() != 2)
-            throw InputError(
-                fmt::format("{}: CSG is 2D only, operand {} is {}", op, i, parts[i].name()));
+        if (parts[i].dimension() != dim)
+            throw InputError(fmt::format("{}: operand 0 is {}D, operand {} ({}) is {}D", op, dim, i,
+                                         parts[i].name(), parts[i].dimension()));
         names.push_back(parts[i].name());
     }
-    Node n = primitive(kind, 2, {}, fmt::format("{}({})", op, fmt::join(names, ", ")));
+    Node n = primitive(kind, dim, {}, fmt::format("{}({})", op, fmt::join(names, ", ")));
     n.children = std::move(parts);
     return make(std::move(n));
 }
@@ -540,6 +630,15 @@ Shape Shape::cylinder(double r, double l) {
     require_length("cylinder", "length", l);
     return make(primitive(ShapeKind::cylinder, 3, {r, l},
                           fmt::format("cylinder(r={}, l={})", fmt_len(r), fmt_len(l))));
+}
+
+Shape Shape::surface_mesh(const std::string& stl_path) {
+    Node n = primitive(
+        ShapeKind::surface_mesh, 3, {},
+        fmt::format("surface_mesh({})", std::filesystem::path(stl_path).filename().string()));
+    n.solid = std::make_shared<const Solid>(Solid::read_stl(stl_path));
+    n.file = stl_path;
+    return make(std::move(n));
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -620,6 +719,18 @@ const std::vector<Shape>& Shape::children() const {
 }
 const Placement& Shape::placement() const {
     return node_->place;
+}
+
+const std::vector<Vec3>& Shape::surface_vertices() const {
+    static const std::vector<Vec3> none;
+    return node_->solid ? node_->solid->vertices() : none;
+}
+const std::vector<std::array<std::int32_t, 3>>& Shape::surface_triangles() const {
+    static const std::vector<std::array<std::int32_t, 3>> none;
+    return node_->solid ? node_->solid->triangles() : none;
+}
+const std::string& Shape::source_file() const {
+    return node_->file;
 }
 
 } // namespace pd::geometry

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // geometry::Shape -> gmsh OpenCASCADE entities (recursively, placements as OCC rotate/translate,
-// CSG as fuse/cut), meshing, and extraction of linear cells into a RefMesh; uniform lattices;
-// .msh reading through gmsh::open.
+// CSG as fuse/cut, 2D and 3D), meshing, and extraction of linear cells into a RefMesh; closed
+// surface meshes as gmsh discrete surfaces (classified, reparametrised, remeshed at h, bounding a
+// built-in-kernel volume); uniform lattices; .msh reading through gmsh::open.
 #include "mesh/shape_mesher.hpp"
 
 #include "core/errors.hpp"
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <unordered_map>
 
@@ -79,6 +81,12 @@ gmsh::vectorpair build_occ(const Shape& s) {
     case ShapeKind::cylinder:
         e = {{3, occ::addCylinder(0, 0, -0.5 * p[1], 0, 0, p[1], p[0])}};
         break;
+    case ShapeKind::surface_mesh:
+        // gmsh 4.8 cannot turn a triangulation into an OCC solid (no STL import in OCC).
+        throw InputError(fmt::format("{} inside a union/difference cannot be meshed by gmsh "
+                                     "(OpenCASCADE booleans need CAD solids); use \"mesh\": "
+                                     "\"grid\" for this shape",
+                                     s.name()));
     }
     const auto& pl = s.placement();
     if (pl.theta != 0)
@@ -165,6 +173,92 @@ model::RefMesh collect(const std::string& name, int type, int npc, int dim) {
     return m;
 }
 
+/// Uniform midpoint subdivision of a triangulation (the surface is unchanged): at least once, then
+/// until no edge is longer than h. gmsh 4.8's classifySurfaces(forReparametrization) loops
+/// forever on a patch of one triangle (e.g. a face of a tetrahedron); after one subdivision every
+/// patch has at least four.
+void subdivide(std::vector<std::array<double, 3>>& x, std::vector<std::array<std::int32_t, 3>>& t,
+               double h, const std::string& what) {
+    for (int level = 0;; ++level) {
+        double longest = 0;
+        for (const auto& c : t)
+            for (int k = 0; k < 3; ++k) {
+                const auto& a = x[static_cast<std::size_t>(c[static_cast<std::size_t>(k)])];
+                const auto& b =
+                    x[static_cast<std::size_t>(c[static_cast<std::size_t>((k + 1) % 3)])];
+                longest = std::max(longest, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
+            }
+        if (level > 0 && longest <= h)
+            return;
+        if (t.size() > 1'000'000)
+            throw InputError(fmt::format("mesh of {}: the surface would need more than 4e6 "
+                                         "triangles to reach edges of h = {} m; coarsen h",
+                                         what, h));
+        std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> mid;
+        auto middle = [&](std::int32_t a, std::int32_t b) {
+            const auto key = std::minmax(a, b);
+            auto [it, fresh] = mid.emplace(key, static_cast<std::int32_t>(x.size()));
+            if (fresh) {
+                const auto p = x[static_cast<std::size_t>(a)], q = x[static_cast<std::size_t>(b)];
+                x.push_back({0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])});
+            }
+            return it->second;
+        };
+        std::vector<std::array<std::int32_t, 3>> next;
+        next.reserve(4 * t.size());
+        for (const auto& c : t) {
+            const auto a = middle(c[0], c[1]), b = middle(c[1], c[2]), d = middle(c[2], c[0]);
+            next.push_back({c[0], a, d});
+            next.push_back({c[1], b, a});
+            next.push_back({c[2], d, b});
+            next.push_back({a, b, d});
+        }
+        t = std::move(next);
+    }
+}
+
+/// Tetrahedra of a surface_mesh shape in the current (empty) gmsh model: its triangles (placement
+/// applied, subdivided) as a discrete surface, classified into patches at 40 degrees that gmsh
+/// can reparametrise, remeshed at size h and filled; the centroid embedded as a node if asked.
+void build_surface_volume(const Shape& shape, double h, bool embed_centroid) {
+    const auto& pl = shape.placement();
+    std::vector<std::array<double, 3>> x;
+    for (const auto& v : shape.surface_vertices())
+        x.push_back(pl.apply(v));
+    auto tris = shape.surface_triangles();
+    subdivide(x, tris, h, shape.name());
+    const int surface = gmsh::model::addDiscreteEntity(2);
+    std::vector<std::size_t> tags;
+    std::vector<double> coord;
+    for (const auto& q : x) {
+        tags.push_back(tags.size() + 1);
+        coord.insert(coord.end(), q.begin(), q.end());
+    }
+    gmsh::model::mesh::addNodes(2, surface, tags, coord);
+    std::vector<std::size_t> conn;
+    for (const auto& t : tris)
+        for (auto k : t)
+            conn.push_back(static_cast<std::size_t>(k) + 1);
+    gmsh::model::mesh::addElementsByType(surface, tri3, {}, conn);
+    gmsh::model::mesh::classifySurfaces(40 * std::numbers::pi / 180, true, true, std::numbers::pi);
+    gmsh::model::mesh::createGeometry();
+    gmsh::vectorpair surfaces;
+    gmsh::model::getEntities(surfaces, 2);
+    std::vector<int> stags;
+    for (const auto& [d, t] : surfaces)
+        stags.push_back(t);
+    const int volume = gmsh::model::geo::addVolume({gmsh::model::geo::addSurfaceLoop(stags)});
+    gmsh::model::geo::synchronize();
+    if (embed_centroid) {
+        const auto c = shape.centroid();
+        if (shape.clearance(c[0], c[1], c[2]) >= 0.5 * h) {
+            const int pt = gmsh::model::geo::addPoint(c[0], c[1], c[2], h);
+            gmsh::model::geo::synchronize();
+            gmsh::model::mesh::embed(0, {pt}, 3, volume);
+        }
+    }
+}
+
 void check_size(const std::string& what, const Shape& shape, double h) {
     if (!(h > 0) || !std::isfinite(h) || h > shape.bounding_radius())
         throw InputError(fmt::format("{} of {}: need 0 < h <= bounding radius {} m, got h = {} m",
@@ -187,18 +281,22 @@ model::RefMesh mesh_shape(const geometry::Shape& shape, double h, const MeshOpti
     return with_gmsh(fmt::format("mesh of {}", shape.name()), [&] {
         namespace occ = gmsh::model::occ;
         gmsh::model::add("shape");
-        gmsh::vectorpair entities = build_occ(shape);
-        if (opt.embed_centroid) {
-            const auto c = shape.centroid();
-            if (shape.clearance(c[0], c[1], c[2]) >= 0.5 * h) {
-                // Fragmenting with a point embeds it in the entity that contains it.
-                const int pt = occ::addPoint(c[0], c[1], c[2], h);
-                gmsh::vectorpair out;
-                std::vector<gmsh::vectorpair> map;
-                occ::fragment(entities, {{0, pt}}, out, map);
+        if (shape.kind() == ShapeKind::surface_mesh) {
+            build_surface_volume(shape, h, opt.embed_centroid);
+        } else {
+            gmsh::vectorpair entities = build_occ(shape);
+            if (opt.embed_centroid) {
+                const auto c = shape.centroid();
+                if (shape.clearance(c[0], c[1], c[2]) >= 0.5 * h) {
+                    // Fragmenting with a point embeds it in the entity that contains it.
+                    const int pt = occ::addPoint(c[0], c[1], c[2], h);
+                    gmsh::vectorpair out;
+                    std::vector<gmsh::vectorpair> map;
+                    occ::fragment(entities, {{0, pt}}, out, map);
+                }
             }
+            occ::synchronize();
         }
-        occ::synchronize();
         gmsh::option::setNumber("Mesh.MeshSizeMax", h);
         gmsh::option::setNumber("Mesh.MeshSizeMin", opt.min_size_factor * h);
         gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
