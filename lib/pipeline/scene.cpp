@@ -169,17 +169,22 @@ std::string resolve(const std::string& base, const std::string& file) {
 }
 
 const std::vector<std::string> shape_keys = {
-    "type",     "radius", "semi_axes", "sides", "phase",  "size",   "corners",  "neck_width",
-    "vertices", "parts",  "base",      "minus", "length", "offset", "rotation", "centered"};
+    "type",    "radius",     "semi_axes", "sides",    "phase", "size",
+    "corners", "neck_width", "vertices",  "parts",    "base",  "minus",
+    "length",  "offset",     "rotation",  "centered", "file"};
 
-geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
+/// A shape; relative surface_mesh files are resolved against `base` (the scene file's folder).
+geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const std::string& base) {
     check_keys(o, w, shape_keys);
-    const auto type =
-        text(o, w, "type", "",
-             {"circle", "ellipse", "triangle", "square", "hexagon", "regular_polygon", "rectangle",
-              "drum2d", "polygon", "union", "difference", "sphere", "box", "cylinder"});
+    const auto type = text(o, w, "type", "",
+                           {"circle", "ellipse", "triangle", "square", "hexagon", "regular_polygon",
+                            "rectangle", "drum2d", "polygon", "union", "difference", "sphere",
+                            "box", "cylinder", "surface_mesh"});
     if (type.empty())
         throw ConfigError(w + ".type", "missing: the kind of shape");
+    if (type != "surface_mesh" && o.contains("file"))
+        throw ConfigError(w + ".file", "only a surface_mesh shape reads a file (a named shape "
+                                       "meshed with \"mesh\": \"file\" gives its .msh here)");
     auto pair = [&](const char* key) {
         if (!o.contains(key) || !o[key].is_array() || o[key].size() < 2)
             throw ConfigError(join(w, key), "expected a list of numbers");
@@ -191,7 +196,7 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
             throw ConfigError(ww, "expected a list of shapes");
         std::vector<geometry::Shape> v;
         for (std::size_t k = 0; k < arr.size(); ++k)
-            v.push_back(parse_shape(arr[k], fmt::format("{}[{}]", ww, k), dim));
+            v.push_back(parse_shape(arr[k], fmt::format("{}[{}]", ww, k), dim, base));
         return v;
     };
     geometry::Shape sh = [&]() {
@@ -242,7 +247,7 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
         if (type == "difference") {
             if (!o.contains("base") || !o.contains("minus"))
                 throw ConfigError(w, "a difference needs base and minus");
-            return geometry::Shape::difference(parse_shape(o["base"], w + ".base", dim),
+            return geometry::Shape::difference(parse_shape(o["base"], w + ".base", dim, base),
                                                list(o["minus"], w + ".minus"));
         }
         if (type == "sphere")
@@ -250,6 +255,19 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
         if (type == "box") {
             auto a = pair("size");
             return geometry::Shape::box(a[0], a[1], a[2]);
+        }
+        if (type == "surface_mesh") {
+            const auto file = text(o, w, "file", "");
+            if (file.empty())
+                throw ConfigError(w + ".file", "missing: the STL file (ASCII or binary) of this "
+                                               "surface_mesh, relative to the scene file");
+            try {
+                return geometry::Shape::surface_mesh(resolve(base, file));
+            } catch (const ConfigError&) {
+                throw;
+            } catch (const InputError& e) {
+                throw ConfigError(w + ".file", e.what());
+            }
         }
         return geometry::Shape::cylinder(positive(o, w, "radius", 0, true),
                                          positive(o, w, "length", 0, true));
@@ -269,15 +287,21 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim) {
 }
 
 ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim, const std::string& base) {
+    // "file" (in shape_keys): a surface_mesh's STL, or the .msh of mesh "file".
     auto keys = shape_keys;
-    keys.insert(keys.end(), {"mesh", "file", "quads", "mesh_size"});
+    keys.insert(keys.end(), {"mesh", "quads", "mesh_size"});
     check_keys(o, w, keys);
+    const bool surface = o.contains("type") && o["type"] == "surface_mesh";
     json geo = json::object();
     for (auto it = o.begin(); it != o.end(); ++it)
-        if (std::find(shape_keys.begin(), shape_keys.end(), it.key()) != shape_keys.end())
+        if (std::find(shape_keys.begin(), shape_keys.end(), it.key()) != shape_keys.end() &&
+            (it.key() != "file" || surface))
             geo[it.key()] = *it;
-    ShapeSpec sp{parse_shape(geo, w, dim), "gmsh", "", false, 0};
+    ShapeSpec sp{parse_shape(geo, w, dim, base), "gmsh", "", false, 0};
     sp.method = text(o, w, "mesh", "gmsh", {"gmsh", "grid", "file"});
+    if (surface && sp.method == "file")
+        throw ConfigError(w + ".mesh", "a surface_mesh is meshed from its STL: use gmsh "
+                                       "(tetrahedra) or grid");
     if (sp.method == "file") {
         sp.file = resolve(base, text(o, w, "file", ""));
         if (sp.file.empty())
@@ -574,7 +598,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                         "orientation", "material", "velocity", "fixed", "group"});
             if (!p.contains("container"))
                 throw ConfigError(w + ".container", "missing: the region to fill (a shape)");
-            const auto container = parse_shape(p["container"], w + ".container", m.dimension);
+            const auto container =
+                parse_shape(p["container"], w + ".container", m.dimension, base_dir);
             geometry::PackOptions o;
             o.count = static_cast<std::size_t>(positive(p, w, "count", 0, true));
             if (!p.contains("radius") || !p["radius"].is_array() || p["radius"].size() != 2)
