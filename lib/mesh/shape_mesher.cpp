@@ -331,6 +331,34 @@ model::RefMesh mesh_shape(const geometry::Shape& shape, double h, const MeshOpti
 }
 
 // ------------------------------------------------------------------------------------------------
+MassProperties occ_mass_properties(const geometry::Shape& shape) {
+    GmshSession session;
+    return with_gmsh(fmt::format("OpenCASCADE mass of {}", shape.name()), [&] {
+        namespace occ = gmsh::model::occ;
+        gmsh::model::add("mass");
+        const gmsh::vectorpair entities = build_occ(shape);
+        occ::synchronize();
+        MassProperties mp;
+        for (const auto& [d, tag] : entities) {
+            if (d != shape.dimension())
+                continue;
+            double m = 0, x = 0, y = 0, z = 0;
+            occ::getMass(d, tag, m);
+            occ::getCenterOfMass(d, tag, x, y, z);
+            mp.measure += m;
+            mp.centroid[0] += m * x;
+            mp.centroid[1] += m * y;
+            mp.centroid[2] += m * z;
+        }
+        if (!(mp.measure > 0))
+            throw InputError(fmt::format("OpenCASCADE mass of {}: empty", shape.name()));
+        for (auto& c : mp.centroid)
+            c /= mp.measure;
+        return mp;
+    });
+}
+
+// ------------------------------------------------------------------------------------------------
 model::RefMesh uniform_grid(const geometry::Shape& shape, double h) {
     check_size("uniform grid", shape, h);
     const int dim = shape.dimension();

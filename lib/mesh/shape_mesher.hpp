@@ -7,6 +7,7 @@
 #include "geometry/shapes.hpp"
 #include "model/model.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,17 @@ model::RefMesh uniform_grid(const geometry::Shape& shape, double h);
 /// has tetrahedra, else 2. Nodes not used by a kept cell are dropped. Throws InputError naming
 /// the file if it cannot be read, has second-order cells or no cells of the dimension.
 model::RefMesh read_msh(const std::string& path, int dimension = 0);
+
+/// Area (2D) or volume (3D) and centroid of `shape` from its OpenCASCADE boundary representation
+/// (gmsh occ::getMass / getCenterOfMass: curved faces and CSG booleans exact up to OCC's
+/// integration tolerance, no meshing). An independent check of Shape::area_or_volume() and
+/// centroid(), whose 3D CSG values come from an octree quadrature. Throws InputError for shapes
+/// holding a surface_mesh (no OCC solid).
+struct MassProperties {
+    double measure = 0;
+    std::array<double, 3> centroid{0, 0, 0};
+};
+MassProperties occ_mass_properties(const geometry::Shape& shape);
 
 /// Lumped nodal volumes for every cell type made here: triangles A/3, quadrangles A/4,
 /// tetrahedra V/4, hexahedra V/8 (2D: areas times unit thickness). A 4-node cell is a quadrangle

@@ -130,6 +130,52 @@ TEST(MeshCsg3d, BoxMinusCylinderAndTwoSpheres) {
           {d / 2, 0, 0});
 }
 
+/// The octree volumes and centroids of 3D CSG against OpenCASCADE's B-rep integrals and the
+/// analytic values.
+TEST(MeshCsg3d, OctreeAgreesWithOpenCascade) {
+    const double lx = 4 * mm, ly = 3 * mm, lz = 2 * mm, r = 0.8 * mm, e = 0.6 * mm;
+    const Shape holed =
+        Shape::difference(Shape::box(lx, ly, lz), {Shape::cylinder(r, 3 * lz).translated(e, 0, 0)});
+    const double hole = pi * r * r * lz, vh = lx * ly * lz - hole;
+    const double R = 1 * mm, d = 1.2 * mm;
+    const Shape two = Shape::unite({Shape::sphere(R), Shape::sphere(R).translated(d, 0, 0)})
+                          .rotated(0.3)
+                          .translated(0, 0, 1 * mm);
+    const double vt =
+        2 * 4.0 / 3 * pi * R * R * R - pi * (4 * R + d) * (2 * R - d) * (2 * R - d) / 12;
+    struct Row {
+        const char* label;
+        Shape s;
+        double v;
+        geometry::Vec3 g;
+    };
+    for (const Row& c : {Row{"box - cylinder", holed, vh, {-hole * e / vh, 0, 0}},
+                         Row{"sphere + sphere",
+                             two,
+                             vt,
+                             {std::cos(0.3) * d / 2, std::sin(0.3) * d / 2, 1 * mm}}}) {
+        const auto occ = mesh::occ_mass_properties(c.s);
+        const auto g = c.s.centroid();
+        const double L = std::cbrt(c.v);
+        std::printf("[ mass3d   ] %-16s volume error: OCC %+.1e, octree %+.1e; centroid error: "
+                    "OCC %.1e L, octree %.1e L\n",
+                    c.label, occ.measure / c.v - 1, c.s.area_or_volume() / c.v - 1,
+                    std::hypot(occ.centroid[0] - c.g[0], occ.centroid[1] - c.g[1],
+                               occ.centroid[2] - c.g[2]) /
+                        L,
+                    std::hypot(g[0] - c.g[0], g[1] - c.g[1], g[2] - c.g[2]) / L);
+        EXPECT_NEAR(occ.measure / c.v, 1.0, 1e-6) << c.label;
+        EXPECT_NEAR(c.s.area_or_volume() / c.v, 1.0, 1e-3) << c.label;
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_NEAR(occ.centroid[static_cast<std::size_t>(i)], c.g[static_cast<std::size_t>(i)],
+                        1e-6 * L)
+                << c.label;
+            EXPECT_NEAR(g[static_cast<std::size_t>(i)], c.g[static_cast<std::size_t>(i)], 1e-4 * L)
+                << c.label;
+        }
+    }
+}
+
 class MeshCsgStl : public pd_test::StlDir {};
 
 TEST_F(MeshCsgStl, SurfaceMeshInCsgGridOnly) {
