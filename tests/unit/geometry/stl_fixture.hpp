@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -142,10 +143,12 @@ inline void write_ascii_stl(const std::string& path, const Surface& s) {
 }
 
 /// Binary STL (float32 coordinates: use coordinates exact in float for exact comparisons).
-inline void write_binary_stl(const std::string& path, const Surface& s) {
+/// `header` (at most 80 characters): exporters often start it with "solid", as ASCII files do.
+inline void write_binary_stl(const std::string& path, const Surface& s,
+                             const std::string& header_text = "binary STL, pdgrain tests") {
     std::ofstream f(path, std::ios::binary);
     char header[80] = {};
-    std::memcpy(header, "binary STL written by the pdgrain tests", 39);
+    std::memcpy(header, header_text.data(), std::min<std::size_t>(80, header_text.size()));
     f.write(header, 80);
     const auto n = static_cast<std::uint32_t>(s.t.size());
     f.write(reinterpret_cast<const char*>(&n), 4);

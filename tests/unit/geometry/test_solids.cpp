@@ -86,6 +86,9 @@ TEST_F(SurfaceMesh, BinaryCubeAndTetrahedronExact) {
         EXPECT_EQ(s.contains(x, y, z), box.contains(x, y, z)) << x << ' ' << y << ' ' << z;
         EXPECT_NEAR(s.clearance(x, y, z), box.clearance(x, y, z), 1e-14);
     }
+    // A binary file whose header starts like an ASCII one.
+    pd_test::write_binary_stl(path("solid_header.stl"), cube, "solid cube exported as binary");
+    EXPECT_DOUBLE_EQ(Shape::surface_mesh(path("solid_header.stl")).area_or_volume(), 0.125);
     const auto tet = pd_test::tetrahedron({0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3});
     pd_test::write_ascii_stl(path("tet.stl"), tet);
     const Shape t = Shape::surface_mesh(path("tet.stl"));
