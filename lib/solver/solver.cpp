@@ -231,21 +231,7 @@ Solver::Solver(const model::Model& m, Domain* dom)
         friction_ = friction_ || (p.friction > 0 && p.stiffness > 0);
     }
     records_ = damping_ || friction_;
-    contact_->set_owned(*dom_);
-    if (dom_->distributed()) {
-        check_whole_grains();
-        for (auto i : s_.rows)
-            for (auto k = b_.offsets[static_cast<std::size_t>(i)];
-                 k < b_.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
-                const auto j = b_.neighbor[static_cast<std::size_t>(k)];
-                if (!dom_->owns(j))
-                    bond_ghosts_.push_back(j);
-            }
-        std::sort(bond_ghosts_.begin(), bond_ghosts_.end());
-        bond_ghosts_.erase(std::unique(bond_ghosts_.begin(), bond_ghosts_.end()),
-                           bond_ghosts_.end());
-        dom_->set_ghosts(bond_ghosts_);
-    }
+    take_rows();
     body_mass_.assign(nb, 0.0);
     for (std::size_t i = 0; i < n; ++i)
         body_mass_[static_cast<std::size_t>(s_.body[i])] += s_.rho[i] * s_.vol[i];
@@ -625,11 +611,7 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
         s_.x[k] = s_.x0[k] + s_.u[k];
     b_.alive = alive;
     // This rank's share of the broken bonds (`broken_total` counts every rank's).
-    broken_total_ = 0;
-    for (auto row : s_.rows)
-        for (auto k = b_.offsets[static_cast<std::size_t>(row)];
-             k < b_.offsets[static_cast<std::size_t>(row) + 1]; ++k)
-            broken_total_ += b_.alive[static_cast<std::size_t>(k)] ? 0 : 1;
+    broken_total_ = count_broken();
     if (dom_->sum(broken_total_) != broken_total)
         throw InputError(fmt::format("checkpoint: {} broken bond ends recorded, {} in its bond "
                                      "state",
@@ -775,19 +757,30 @@ void Solver::redistribute(Domain* dom) {
     dom_ = dom;
     if (dom_->num_nodes() != s_.n)
         throw InternalError("redistribute: a domain of another model");
-    check_whole_grains();
-    s_.rows = dom_->rows();
+    take_rows(); // contact ghosts join at the next (forced) rebuild
     external_work_ = dom_->rank() == 0 ? work : 0.0;
     power_ = dom_->rank() == 0 ? power : 0.0;
-    broken_total_ = 0;
+    broken_total_ = count_broken();
+    exposed_at_ = -1;
+    contact_->invalidate();
+    walls_->invalidate();
+}
+
+std::int64_t Solver::count_broken() const {
+    std::int64_t c = 0;
     for (auto row : s_.rows)
         for (auto k = b_.offsets[static_cast<std::size_t>(row)];
              k < b_.offsets[static_cast<std::size_t>(row) + 1]; ++k)
-            broken_total_ += b_.alive[static_cast<std::size_t>(k)] ? 0 : 1;
-    exposed_at_ = -1;
+            c += b_.alive[static_cast<std::size_t>(k)] ? 0 : 1;
+    return c;
+}
+
+void Solver::take_rows() {
+    s_.rows = dom_->rows();
     contact_->set_owned(*dom_);
-    contact_->invalidate();
-    walls_->invalidate();
+    if (!dom_->distributed())
+        return;
+    check_whole_grains();
     bond_ghosts_.clear();
     for (auto i : s_.rows)
         for (auto k = b_.offsets[static_cast<std::size_t>(i)];
@@ -798,7 +791,7 @@ void Solver::redistribute(Domain* dom) {
         }
     std::sort(bond_ghosts_.begin(), bond_ghosts_.end());
     bond_ghosts_.erase(std::unique(bond_ghosts_.begin(), bond_ghosts_.end()), bond_ghosts_.end());
-    dom_->set_ghosts(bond_ghosts_); // contact ghosts join at the next (forced) rebuild
+    dom_->set_ghosts(bond_ghosts_);
 }
 
 void Solver::set_ghosts() {

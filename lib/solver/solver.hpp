@@ -120,6 +120,10 @@ class Solver {
 
     void set_ghosts();
     void check_whole_grains() const;
+    /// Takes the domain's rows: contact rows, bond ghosts (collective).
+    void take_rows();
+    /// Broken bond ends in this rank's rows.
+    std::int64_t count_broken() const;
 
     const model::Model& m_;
     std::unique_ptr<Domain> serial_; ///< the one-rank domain when none is given
