@@ -8,7 +8,8 @@ packages=(
   libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools
   libgmsh-dev libcgal-dev libmetis-dev libeigen3-dev libvtk9-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev
-  python3-h5py python3-meshio python3-numpy python3-matplotlib python3-pytest
+  python3-h5py python3-h5py-mpi python3-mpi4py python3-meshio python3-numpy python3-matplotlib
+  python3-pytest
   libyaml-cpp-dev python3-jsonschema
   paraview
 )

@@ -8,6 +8,7 @@ Norm: for every frame field, max over frames, nodes and components of |a - b| di
 (the field's own scale); for observables the same per series, momentum against its natural scale
 sqrt(2 M KE). Frame fields are required to agree to 1e-12 (they are in fact bitwise equal: every
 force sum runs in the same order at any rank count); observables are sums over ranks, 1e-12."""
+import json
 import os
 import shutil
 import signal
@@ -222,3 +223,18 @@ def test_threads_combine_with_ranks(tmp_path):
         for x, y in zip(state(a), state(b)):
             assert np.abs(x).max() > 0 and np.array_equal(x, y)
         assert b["provenance"][sorted(b["provenance"])[-1]].attrs["threads"] == 2
+
+
+def test_h5py_mpi_reads_every_frame_written_by_4_ranks(tmp_path):
+    base, by = pack(tmp_path, "pack50")
+    f = run(tmp_path, base, by, 4)
+    r = subprocess.run(["mpirun", "--oversubscribe", "-np", "2", "/usr/bin/python3",
+                        os.path.join(os.path.dirname(__file__), "read_mpio.py"), str(f)],
+                       env=ENV, check=True, capture_output=True, text=True)
+    sums = json.loads(r.stdout.strip().splitlines()[-1])
+    with h5py.File(f, "r") as h:  # the same sums read serially
+        assert set(sums) == set(frame_fields(h))
+        for k, s in sums.items():
+            ref = float(sum(h[f"particles/nodes/{k}/value"][i].sum()
+                            for i in range(h[f"particles/nodes/{k}/value"].shape[0])))
+            assert s == pytest.approx(ref, rel=1e-12, abs=1e-300), k
