@@ -8,6 +8,8 @@ refused with exit 2, naming the key and the file, and no output file."""
 
 import json
 import math
+import os
+import shutil
 import struct
 
 import h5py
@@ -225,3 +227,24 @@ def test_surface_mesh_needs_gmsh_or_grid(pd_pack, tmp_path):
     csg = {"type": "difference", "base": {"type": "surface_mesh", "file": "cube.stl"},
            "minus": [{"type": "sphere", "radius": 0.3e-3}]}
     refused(pd_pack, tmp_path, one(csg), ["\"grid\""])
+
+
+def test_sparse_bond_families_are_warned_about(pd_pack, tmp_path):
+    """The example's gem (sharp STL tips: smallest spacing 0.087 mm at h = 0.25 mm) with
+    horizon = 3 x smallest spacing has a median of 8 bonds per node: pd-pack warns; with the
+    absolute horizon of the example it does not."""
+    src = os.path.join(os.environ.get("PD_SOURCE_DIR", "."), "examples", "three_d_csg")
+    shutil.copy(os.path.join(src, "gem.stl"), tmp_path / "gem.stl")
+    sc = {"dimension": 3, "materials": MAT,
+          "discretization": {"mesh_size": 2.5e-4, "horizon_factor": 3},
+          "shapes": {"gem": {"type": "surface_mesh", "file": "gem.stl", "centered": True}},
+          "particles": [{"shape": "gem", "center": [0, 0, 0], "material": "m1"}],
+          "solver": {"final_time": 1e-4}}
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(sc))
+    r = run(pd_pack, path, "-o", tmp_path / "a.h5")
+    assert r.returncode == 0 and "median of 8 bonds per node" in r.stderr, r.stderr
+    sc["discretization"] = {"mesh_size": 2.5e-4, "horizon": 7.5e-4}
+    path.write_text(json.dumps(sc))
+    r = run(pd_pack, path, "-o", tmp_path / "b.h5")
+    assert r.returncode == 0 and "bonds per node" not in r.stderr, r.stderr
