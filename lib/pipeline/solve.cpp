@@ -301,7 +301,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
             c.u = st.u;
             c.v = st.v;
             c.f = st.f;
-            c.alive = s.bonds().alive;
+            s.alive_into(c.alive); // this rank's entries; write_runs reads only those
             c.broken_total = s.broken_total();
             c.external_work = s.domain().sum(s.external_work());
             c.external_power = s.domain().sum(s.external_power_last());

@@ -38,7 +38,7 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
         const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
         double e_i = 0;
         const double kr = law.krep[body], rr = law.rrep[body];
-        for (offset_t k = off[i]; k < off[i + 1]; ++k) {
+        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
@@ -104,7 +104,7 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
         }
         const double s0 = law.s0[body];
         double th = 0;
-        for (offset_t k = off[i]; k < off[i + 1]; ++k) {
+        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             if (Breakable && !alive[k])
                 continue;
             const index_t j = nb[k];
@@ -141,7 +141,7 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
         const double p_i = dd * kap * theta[i] / mw[i];
         double fi[3] = {0, 0, 0}, wdev = 0;
         const double kr = law.krep[body], rr = law.rrep[body];
-        for (offset_t k = off[i]; k < off[i + 1]; ++k) {
+        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
                          d2 = x[3 * j + 2] - x[3 * i + 2];
@@ -204,7 +204,7 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
         const double C = law.rnp_c[body], bt = law.rnp_beta[body], rb = law.rnp_rbar[body];
         const double inv = 1.0 / law.rnp_inv[body];
         double fi[3] = {0, 0, 0}, e_i = 0;
-        for (offset_t k = off[i]; k < off[i + 1]; ++k) {
+        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
             if (Breakable && !alive[k]) {
                 e_i += C * inv * beta[k] * vol[j]; // a broken bond keeps C / invF
@@ -247,22 +247,6 @@ BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law) {
     return law.any_breakable ? rnp_kernel<true>(s, b, law) : rnp_kernel<false>(s, b, law);
 }
 
-void lps_weighted_volume(const State& s, const BondData& b, BodyLaw& law) {
-    law.m.assign(s.n, 0.0);
-    law.theta.assign(s.n, 0.0);
-    for (std::size_t i = 0; i < s.n; ++i) {
-        if (!law.lps[static_cast<std::size_t>(s.body[i])])
-            continue;
-        double m = 0;
-        for (auto k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            m += b.omega[kk] * b.xi[kk] * b.xi[kk] * b.beta[kk] *
-                 s.vol[static_cast<std::size_t>(b.neighbor[kk])];
-        }
-        law.m[i] = m > 0 ? m : 1.0; // a node with no bond has theta = 0 and no force
-    }
-}
-
 BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
                            const std::function<void()>& between) {
     return law.any_breakable ? lps_kernel<true>(s, b, law, between)
@@ -281,7 +265,7 @@ void damage_phi(const State& s, const BondData& b, std::vector<double>& phi) {
     for (std::int64_t a = 0; a < n; ++a) {
         const std::int64_t i = rows[a];
         double all = 0, br = 0;
-        for (offset_t k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
+        for (offset_t k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
             const double w = b.beta[k] * s.vol[b.neighbor[k]];
             all += w;
             if (!b.alive[k])

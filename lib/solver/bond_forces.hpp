@@ -29,9 +29,6 @@ BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
 /// Sets f = RNP force density of every node of a moving RNP body (spec 1.4, model/rnp.hpp).
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law);
 
-/// Weighted volumes m_i = sum_j w xi^2 beta V_j of LPS nodes (once, at start).
-void lps_weighted_volume(const State& s, const BondData& b, BodyLaw& law);
-
 /// Damage phi_i = sum of beta V_j over broken bonds / sum over all bonds (spec decision 4).
 void damage_phi(const State& s, const BondData& b, std::vector<double>& phi);
 

@@ -104,27 +104,6 @@ Solver::Solver(const model::Model& m, Domain* dom)
         s_.rho[i] = m.materials[static_cast<std::size_t>(m.bodies.material[b])].density;
         s_.moving[i] = m.bodies.fixed[b] ? 0 : 1;
     }
-    // Bond data: reference lengths and partial-volume factors, computed once.
-    b_.offsets = m.bonds.offsets;
-    b_.neighbor = m.bonds.neighbor;
-    b_.xi.resize(b_.neighbor.size());
-    b_.beta.resize(b_.neighbor.size());
-    b_.alive.assign(b_.neighbor.size(), 1);
-    for (std::size_t i = 0; i < n; ++i) {
-        const auto b = static_cast<std::size_t>(s_.body[i]);
-        for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
-            const auto j = static_cast<std::size_t>(b_.neighbor[static_cast<std::size_t>(k)]);
-            double r2 = 0;
-            for (int d = 0; d < 3; ++d)
-                r2 += std::pow(s_.x0[3 * j + d] - s_.x0[3 * i + d], 2);
-            const double r = std::sqrt(r2);
-            if (!(r > 0))
-                throw InputError(fmt::format("nodes {} and {} coincide (zero-length bond)", i, j));
-            b_.xi[static_cast<std::size_t>(k)] = r;
-            b_.beta[static_cast<std::size_t>(k)] =
-                model::partial_volume(r, m.bodies.horizon[b], m.bodies.mesh_size[b]);
-        }
-    }
     law_.c.resize(nb);
     law_.s0.resize(nb);
     law_.lps.assign(nb, 0);
@@ -172,50 +151,7 @@ Solver::Solver(const model::Model& m, Domain* dom)
             18.0 * mat.bulk_modulus() / (M_PI * std::pow(m.bodies.horizon[b], m.dimension + 2));
         law_.rrep[b] = 0.95 * m.bodies.mesh_size[b];
     }
-    // Optional PMB surface correction (solver.surface_correction, off by default): the discrete
-    // family of node i integrates the bond energy of an isotropic stretch as sum_j xi beta V_j
-    // instead of the continuum's integral of xi over the horizon (2 pi delta^3 / 3 in 2D,
-    // pi delta^4 in 3D). lambda_i is their ratio (about 1 in the bulk with the partial cut-off,
-    // up to 2-4 for the truncated families of surface, edge and corner nodes); bond ij gets
-    // (lambda_i + lambda_j) / 2. It removes the softening for isotropic deformation but
-    // over-stiffens surfaces in uniaxial stress: measured on a 3D bar, section force +9 % with
-    // it against -3.5 % without at h = 0.25 mm (tests/unit/solver/test_accuracy.cpp).
-    b_.stiff = b_.beta;
-    if (m.solver.surface_correction) {
-        std::vector<double> lambda(n, 1.0);
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto b = static_cast<std::size_t>(s_.body[i]);
-            const double d = m.bodies.horizon[b];
-            const double cont =
-                m.dimension == 3 ? M_PI * std::pow(d, 4) : 2.0 * M_PI * std::pow(d, 3) / 3.0;
-            double sum = 0;
-            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
-                const auto kk = static_cast<std::size_t>(k);
-                sum += b_.xi[kk] * b_.beta[kk] * s_.vol[static_cast<std::size_t>(b_.neighbor[kk])];
-            }
-            if (sum > 0)
-                lambda[i] = cont / sum;
-        }
-        for (std::size_t i = 0; i < n; ++i)
-            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
-                const auto kk = static_cast<std::size_t>(k);
-                b_.stiff[kk] = b_.beta[kk] * 0.5 *
-                               (lambda[i] + lambda[static_cast<std::size_t>(b_.neighbor[kk])]);
-            }
-    }
-    if (law_.any_lps || law_.any_rnp) {
-        b_.omega.resize(b_.neighbor.size());
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto b = static_cast<std::size_t>(s_.body[i]);
-            const auto inf = m.materials[static_cast<std::size_t>(m.bodies.material[b])].influence;
-            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
-                const auto kk = static_cast<std::size_t>(k);
-                b_.omega[kk] = model::influence(inf, b_.xi[kk] / m.bodies.horizon[b]);
-            }
-        }
-        if (law_.any_lps)
-            lps_weighted_volume(s_, b_, law_);
-    }
+    build_bonds();
     for (int d = 0; d < 3; ++d)
         g_[d] = m.loading.gravity[static_cast<std::size_t>(d)];
     double rc = 0;
@@ -232,6 +168,7 @@ Solver::Solver(const model::Model& m, Domain* dom)
     }
     records_ = damping_ || friction_;
     take_rows();
+    set_bond_ghosts();
     body_mass_.assign(nb, 0.0);
     for (std::size_t i = 0; i < n; ++i)
         body_mass_[static_cast<std::size_t>(s_.body[i])] += s_.rho[i] * s_.vol[i];
@@ -249,12 +186,13 @@ StableDt Solver::stable_dt() const {
     StableDt r;
     r.pd = std::numeric_limits<double>::infinity();
     r.contact = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < s_.n; ++i) {
+    for (std::size_t a = 0; a < s_.rows.size(); ++a) {
+        const auto i = static_cast<std::size_t>(s_.rows[a]);
         if (!s_.moving[i])
             continue;
         const auto b = static_cast<std::size_t>(s_.body[i]);
         double k = 0;
-        for (auto q = b_.offsets[i]; q < b_.offsets[i + 1]; ++q) {
+        for (auto q = b_.offsets[a]; q < b_.offsets[a + 1]; ++q) {
             const auto qq = static_cast<std::size_t>(q);
             k += law_.c[b] * b_.stiff[qq] * s_.vol[static_cast<std::size_t>(b_.neighbor[qq])] /
                  b_.xi[qq];
@@ -262,6 +200,7 @@ StableDt Solver::stable_dt() const {
         if (k > 0)
             r.pd = std::min(r.pd, std::sqrt(2.0 * s_.rho[i] / k));
     }
+    r.pd = dom_->min(r.pd); // every rank's rows
     if (contact_->active() || walls_->active()) {
         // Worst case of each law that can act (two bodies, or a body and a wall, of its groups,
         // one of them moving): a node pressed into a neighbour body whose nodes fill a contact
@@ -346,14 +285,12 @@ void Solver::compute_forces() {
         }
         if (broken_total_ != exposed_at_) {
             // Damage exposes interior nodes: they join the contact search.
-            for (auto row : s_.rows) {
-                const auto i = static_cast<std::size_t>(row);
-                for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k)
+            for (std::size_t a = 0; a < s_.rows.size(); ++a)
+                for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k)
                     if (!b_.alive[static_cast<std::size_t>(k)]) {
-                        contact_->expose(row);
+                        contact_->expose(s_.rows[a]);
                         break;
                     }
-            }
             exposed_at_ = broken_total_;
         }
     }
@@ -609,9 +546,9 @@ void Solver::apply_displacements() {
 
 void Solver::break_precracks() {
     for (const auto& c : m_.cracks)
-        for (auto row : s_.rows) {
-            const auto i = static_cast<std::size_t>(row);
-            for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
+        for (std::size_t a = 0; a < s_.rows.size(); ++a) {
+            const auto i = static_cast<std::size_t>(s_.rows[a]);
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
                 const auto kk = static_cast<std::size_t>(k);
                 const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
                 if (b_.alive[kk] &&
@@ -628,7 +565,7 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
                      const std::vector<double>& v, const std::vector<double>& f,
                      const std::vector<std::uint8_t>& alive, std::int64_t broken_total) {
     PD_CHECK(u.size() == s_.u.size() && v.size() == s_.v.size() && f.size() == s_.f.size() &&
-                 alive.size() == b_.alive.size(),
+                 alive.size() == m_.bonds.neighbor.size(),
              "checkpoint sizes");
     initialized_ = true;
     s_.step = step;
@@ -638,7 +575,13 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
     s_.f = f;
     for (std::size_t k = 0; k < s_.x.size(); ++k)
         s_.x[k] = s_.x0[k] + s_.u[k];
-    b_.alive = alive;
+    const auto& B = m_.bonds;
+    for (std::size_t a = 0; a < s_.rows.size(); ++a) {
+        const auto i = static_cast<std::size_t>(s_.rows[a]);
+        std::copy(alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i]),
+                  alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i + 1]),
+                  b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]));
+    }
     // This rank's share of the broken bonds (`broken_total` counts every rank's).
     broken_total_ = count_broken();
     if (dom_->sum(broken_total_) != broken_total)
@@ -726,6 +669,119 @@ void Solver::apply_friction() {
     }
 }
 
+namespace {
+/// |X_j - X_i|, computed the same way wherever a bond's length is needed (bitwise equal).
+double bond_length(const std::vector<double>& x0, std::size_t i, std::size_t j) {
+    double r2 = 0;
+    for (std::size_t d = 0; d < 3; ++d)
+        r2 += std::pow(x0[3 * j + d] - x0[3 * i + d], 2);
+    return std::sqrt(r2);
+}
+} // namespace
+
+void Solver::build_bonds() {
+    // This rank's rows of the bond list (s_.rows; all on one rank): reference lengths and
+    // partial-volume factors, computed once. Bond data of other ranks' rows is never stored.
+    const auto& m = m_;
+    const std::size_t nr = s_.rows.size(), n = s_.n;
+    b_.offsets.assign(nr + 1, 0);
+    for (std::size_t a = 0; a < nr; ++a) {
+        const auto i = static_cast<std::size_t>(s_.rows[a]);
+        b_.offsets[a + 1] = b_.offsets[a] + (m.bonds.offsets[i + 1] - m.bonds.offsets[i]);
+    }
+    const auto nbond = static_cast<std::size_t>(b_.offsets[nr]);
+    b_.neighbor.resize(nbond);
+    b_.xi.resize(nbond);
+    b_.beta.resize(nbond);
+    b_.alive.assign(nbond, 1);
+    for (std::size_t a = 0; a < nr; ++a) {
+        const auto i = static_cast<std::size_t>(s_.rows[a]);
+        const auto b = static_cast<std::size_t>(s_.body[i]);
+        auto g = m.bonds.offsets[i];
+        for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k, ++g) {
+            const auto kk = static_cast<std::size_t>(k);
+            const auto j = m.bonds.neighbor[static_cast<std::size_t>(g)];
+            const double r = bond_length(s_.x0, i, static_cast<std::size_t>(j));
+            if (!(r > 0))
+                throw InputError(fmt::format("nodes {} and {} coincide (zero-length bond)", i, j));
+            b_.neighbor[kk] = j;
+            b_.xi[kk] = r;
+            b_.beta[kk] = model::partial_volume(r, m.bodies.horizon[b], m.bodies.mesh_size[b]);
+        }
+    }
+    // Per-node sums over a node's whole family, for every node (the ghosts' values are needed
+    // too): from the model's bond list, each term computed as in the rows above.
+    auto family_sum = [&](auto&& term, std::vector<double>& out) {
+        out.assign(n, 0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto b = static_cast<std::size_t>(s_.body[i]);
+            double sum = 0;
+            for (auto g = m.bonds.offsets[i]; g < m.bonds.offsets[i + 1]; ++g) {
+                const auto j =
+                    static_cast<std::size_t>(m.bonds.neighbor[static_cast<std::size_t>(g)]);
+                const double r = bond_length(s_.x0, i, j);
+                sum +=
+                    term(b, r, model::partial_volume(r, m.bodies.horizon[b], m.bodies.mesh_size[b]),
+                         s_.vol[j]);
+            }
+            out[i] = sum;
+        }
+    };
+    // Optional PMB surface correction (solver.surface_correction, off by default): the discrete
+    // family of node i integrates the bond energy of an isotropic stretch as sum_j xi beta V_j
+    // instead of the continuum's integral of xi over the horizon (2 pi delta^3 / 3 in 2D,
+    // pi delta^4 in 3D). lambda_i is their ratio (about 1 in the bulk with the partial cut-off,
+    // up to 2-4 for the truncated families of surface, edge and corner nodes); bond ij gets
+    // (lambda_i + lambda_j) / 2. It removes the softening for isotropic deformation but
+    // over-stiffens surfaces in uniaxial stress: measured on a 3D bar, section force +9 % with
+    // it against -3.5 % without at h = 0.25 mm (tests/unit/solver/test_accuracy.cpp).
+    b_.stiff = b_.beta;
+    if (m.solver.surface_correction) {
+        std::vector<double> lambda;
+        family_sum([](std::size_t, double r, double beta, double vj) { return r * beta * vj; },
+                   lambda);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double d = m.bodies.horizon[static_cast<std::size_t>(s_.body[i])];
+            const double cont =
+                m.dimension == 3 ? M_PI * std::pow(d, 4) : 2.0 * M_PI * std::pow(d, 3) / 3.0;
+            lambda[i] = lambda[i] > 0 ? cont / lambda[i] : 1.0;
+        }
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto i = static_cast<std::size_t>(s_.rows[a]);
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                b_.stiff[kk] = b_.beta[kk] * 0.5 *
+                               (lambda[i] + lambda[static_cast<std::size_t>(b_.neighbor[kk])]);
+            }
+        }
+    }
+    if (law_.any_lps || law_.any_rnp) {
+        auto influence = [&](std::size_t b) {
+            return m.materials[static_cast<std::size_t>(m.bodies.material[b])].influence;
+        };
+        b_.omega.resize(nbond);
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto b = static_cast<std::size_t>(s_.body[static_cast<std::size_t>(s_.rows[a])]);
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                b_.omega[kk] = model::influence(influence(b), b_.xi[kk] / m.bodies.horizon[b]);
+            }
+        }
+        if (law_.any_lps) {
+            // LPS weighted volume m_i = sum_j w xi^2 beta V_j (spec 1.3) of every node.
+            family_sum(
+                [&](std::size_t b, double r, double beta, double vj) {
+                    return model::influence(influence(b), r / m.bodies.horizon[b]) * r * r * beta *
+                           vj;
+                },
+                law_.m);
+            for (auto& w : law_.m)
+                w = w > 0 ? w : 1.0; // a node with no bond has theta = 0 and no force
+            law_.theta.assign(n, 0.0);
+        }
+    }
+}
+
 void Solver::check_whole_grains() const {
     if (!damping_ || !dom_->distributed())
         return;
@@ -762,7 +818,7 @@ void Solver::redistribute(Domain* dom) {
     dom_->allgather(s_.u, 3);
     dom_->allgather(s_.v, 3);
     dom_->allgather(s_.f, 3);
-    dom_->allgather_csr(b_.alive, b_.offsets);
+    const auto alive = global_alive();
     // The unloading factors of the last evaluation (friction limits of the next one).
     std::vector<double> mine;
     for (const auto& [key, value] : unload_)
@@ -786,7 +842,16 @@ void Solver::redistribute(Domain* dom) {
     dom_ = dom;
     if (dom_->num_nodes() != s_.n)
         throw InternalError("redistribute: a domain of another model");
-    take_rows(); // contact ghosts join at the next (forced) rebuild
+    take_rows();
+    build_bonds();
+    const auto& B = m_.bonds;
+    for (std::size_t a = 0; a < s_.rows.size(); ++a) {
+        const auto i = static_cast<std::size_t>(s_.rows[a]);
+        std::copy(alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i]),
+                  alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i + 1]),
+                  b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]));
+    }
+    set_bond_ghosts(); // contact ghosts join at the next (forced) rebuild
     external_work_ = dom_->rank() == 0 ? work : 0.0;
     power_ = dom_->rank() == 0 ? power : 0.0;
     broken_total_ = count_broken();
@@ -796,28 +861,39 @@ void Solver::redistribute(Domain* dom) {
 }
 
 std::int64_t Solver::count_broken() const {
-    std::int64_t c = 0;
-    for (auto row : s_.rows)
-        for (auto k = b_.offsets[static_cast<std::size_t>(row)];
-             k < b_.offsets[static_cast<std::size_t>(row) + 1]; ++k)
-            c += b_.alive[static_cast<std::size_t>(k)] ? 0 : 1;
-    return c;
+    return static_cast<std::int64_t>(std::count(b_.alive.begin(), b_.alive.end(), 0));
+}
+
+void Solver::alive_into(std::vector<std::uint8_t>& full) const {
+    const auto& B = m_.bonds;
+    full.resize(B.neighbor.size());
+    for (std::size_t a = 0; a < s_.rows.size(); ++a)
+        std::copy(b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]),
+                  b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a + 1]),
+                  full.begin() +
+                      static_cast<std::ptrdiff_t>(B.offsets[static_cast<std::size_t>(s_.rows[a])]));
+}
+
+std::vector<std::uint8_t> Solver::global_alive() const {
+    std::vector<std::uint8_t> full(m_.bonds.neighbor.size(), 1);
+    alive_into(full);
+    dom_->allgather_csr(full, m_.bonds.offsets);
+    return full;
 }
 
 void Solver::take_rows() {
     s_.rows = dom_->rows();
     contact_->set_owned(*dom_);
+}
+
+void Solver::set_bond_ghosts() {
     if (!dom_->distributed())
         return;
     check_whole_grains();
     bond_ghosts_.clear();
-    for (auto i : s_.rows)
-        for (auto k = b_.offsets[static_cast<std::size_t>(i)];
-             k < b_.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
-            const auto j = b_.neighbor[static_cast<std::size_t>(k)];
-            if (!dom_->owns(j))
-                bond_ghosts_.push_back(j);
-        }
+    for (auto j : b_.neighbor)
+        if (!dom_->owns(j))
+            bond_ghosts_.push_back(j);
     std::sort(bond_ghosts_.begin(), bond_ghosts_.end());
     bond_ghosts_.erase(std::unique(bond_ghosts_.begin(), bond_ghosts_.end()), bond_ghosts_.end());
     dom_->set_ghosts(bond_ghosts_);
@@ -999,21 +1075,21 @@ void Solver::damage(std::vector<double>& phi) const {
 
 void Solver::broken_per_node(std::vector<double>& count) const {
     count.assign(s_.n, 0.0);
-    for (auto row : s_.rows) {
-        const auto i = static_cast<std::size_t>(row);
-        for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k)
+    for (std::size_t a = 0; a < s_.rows.size(); ++a) {
+        const auto i = static_cast<std::size_t>(s_.rows[a]);
+        for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k)
             count[i] += b_.alive[static_cast<std::size_t>(k)] ? 0.0 : 1.0;
     }
 }
 
 void Solver::fragments(std::vector<double>& id) const {
     // Components can span ranks (node partition): every rank needs every bond's state.
+    // On one rank the bond list is this rank's rows.
     std::vector<std::uint8_t> gathered;
-    if (dom_->distributed()) {
-        gathered = b_.alive;
-        dom_->allgather_csr(gathered, b_.offsets);
-    }
+    if (dom_->distributed())
+        gathered = global_alive();
     const auto& alive = dom_->distributed() ? gathered : b_.alive;
+    const auto& B = m_.bonds;
     std::vector<index_t> parent(s_.n);
     for (std::size_t i = 0; i < s_.n; ++i)
         parent[i] = static_cast<index_t>(i);
@@ -1026,11 +1102,11 @@ void Solver::fragments(std::vector<double>& id) const {
         return a;
     };
     for (std::size_t i = 0; i < s_.n; ++i)
-        for (auto k = b_.offsets[i]; k < b_.offsets[i + 1]; ++k) {
+        for (auto k = B.offsets[i]; k < B.offsets[i + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
             if (!alive[kk])
                 continue;
-            const index_t a = find(static_cast<index_t>(i)), b = find(b_.neighbor[kk]);
+            const index_t a = find(static_cast<index_t>(i)), b = find(B.neighbor[kk]);
             if (a != b) // the smaller index becomes the root
                 parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
         }
@@ -1050,7 +1126,7 @@ void Solver::damage_z(std::vector<double>& z) const {
         if (!std::isfinite(s0) || !s_.moving[ii])
             continue;
         double zmax = 0;
-        for (auto k = b_.offsets[ii]; k < b_.offsets[ii + 1]; ++k) {
+        for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
             const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
             const double r = b_.xi[kk];

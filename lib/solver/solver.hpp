@@ -58,8 +58,14 @@ class Solver {
 
     State& state() { return s_; }
     const State& state() const { return s_; }
+    /// This rank's rows of the bond list (CSR over state().rows; on one rank, all of it).
     const BondData& bonds() const { return b_; }
     BondData& bonds() { return b_; }
+    /// Writes this rank's bond states into their places of a whole-list array (size of the
+    /// model's bond list; other entries untouched).
+    void alive_into(std::vector<std::uint8_t>& full) const;
+    /// Every bond's state, on every rank (collective).
+    std::vector<std::uint8_t> global_alive() const;
     /// LPS dilatation theta per node (0 for PMB nodes) at the last force evaluation.
     const std::vector<double>& dilatation() const { return law_.theta; }
     /// Damage_Z per node (spec 3): max over all bonds, broken or not, of |s| / s0 (RNP:
@@ -120,8 +126,12 @@ class Solver {
 
     void set_ghosts();
     void check_whole_grains() const;
-    /// Takes the domain's rows: contact rows, bond ghosts (collective).
+    /// Takes the domain's rows (state loops, contact rows).
     void take_rows();
+    /// This rank's rows of the bond list (reference lengths, factors, influence; alive = 1).
+    void build_bonds();
+    /// Ghosts for the bond neighbours owned elsewhere (collective).
+    void set_bond_ghosts();
     /// Broken bond ends in this rank's rows.
     std::int64_t count_broken() const;
 

@@ -44,8 +44,11 @@ struct State {
 /// capacity follows it, so damping does not inflate the friction limit of a resting grain.
 using UnloadMap = std::map<std::pair<std::int32_t, std::int32_t>, double>;
 
+/// The bond rows of this rank's nodes only: row a is node State::rows[a] (all rows on one rank),
+/// neighbours are global node ids. Other ranks' rows are never stored, so bond memory per rank
+/// shrinks with the rank count.
 struct BondData {
-    std::vector<offset_t> offsets;
+    std::vector<offset_t> offsets; ///< rows.size() + 1
     std::vector<index_t> neighbor;
     std::vector<double> xi;          ///< reference bond length, m
     std::vector<double> beta;        ///< partial-volume factor (spec 1.3)
