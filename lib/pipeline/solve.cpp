@@ -56,6 +56,16 @@ void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<do
     fw.write(st.step, st.time, data);
 }
 
+/// Seconds a rank spent computing (forces, contact, integration; not the ghost exchange).
+double busy_seconds(Timers& timers) {
+    double busy = 0;
+    for (const char* name :
+         {"pd::solver::bond_forces", "pd::solver::contact_forces", "pd::solver::contact_search",
+          "pd::solver::wall_contact", "pd::solver::integrate", "pd::solver::damping_friction"})
+        busy += timers.total(timers.id(name));
+    return busy;
+}
+
 std::vector<double> observable_row(const solver::Observables& o) {
     std::vector<double> r{o.kinetic_energy,
                           o.elastic_energy,
@@ -331,6 +341,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         const int t_out = timers.id("pd::store::output");
         const int t_ck = timers.id("pd::store::checkpoint");
         solver::Observables last_obs = s.observe();
+        double busy_at_frame = 0, imbalance = 1.0; // compute time max/mean over ranks
         for (std::int64_t n = first + 1; n <= last; ++n) {
             s.advance();
             const bool frame = n % out_every == 0 || n == total;
@@ -392,6 +403,12 @@ void solve(const SolveOptions& opt, Context& ctx) {
                 ScopedTimer t(timers, t_out);
                 obs.flush();
                 write_frame(frames, s, damage, force);
+                if (par) { // work imbalance since the last frame (collective, as frames are)
+                    const double now = busy_seconds(timers), mine = now - busy_at_frame;
+                    busy_at_frame = now;
+                    const double mean = s.domain().sum(mine) / ctx.size;
+                    imbalance = mean > 0 ? s.domain().max(mine) / mean : 1.0;
+                }
             }
             if (n % ckpt_every == 0 || n == last) {
                 ScopedTimer t(timers, t_ck);
@@ -409,9 +426,10 @@ void solve(const SolveOptions& opt, Context& ctx) {
                 const double el = wall_seconds() - wall0;
                 const double done = static_cast<double>(n - first);
                 ctx.log.info("step {}/{} t={:.4e} s dt={:.3e} s KE={:.4e} J broken={} contacts={} "
-                             "wall={:.1f} s ETA={:.1f} s",
+                             "wall={:.1f} s ETA={:.1f} s{}",
                              n, total, s.state().time, dt, o.kinetic_energy, o.broken_bonds,
-                             o.contact_count, el, el / done * static_cast<double>(last - n));
+                             o.contact_count, el, el / done * static_cast<double>(last - n),
+                             par ? fmt::format(" imbalance={:.3f}", imbalance) : std::string{});
                 next_report = wall_seconds() + opt.progress_seconds;
             }
         }
@@ -436,11 +454,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
                  static_cast<double>(m.nodes.num()) * static_cast<double>(last - first) / wall);
     if (par) {
         // Load balance over the run: time in force evaluation and integration per rank.
-        double busy = 0;
-        for (const char* name :
-             {"pd::solver::bond_forces", "pd::solver::contact_forces", "pd::solver::contact_search",
-              "pd::solver::wall_contact", "pd::solver::integrate", "pd::solver::damping_friction"})
-            busy += timers.total(timers.id(name));
+        const double busy = busy_seconds(timers);
         const auto& domain = s.domain();
         const double mean = domain.sum(busy) / ctx.size;
         ctx.log.info("load balance: compute time max/mean over {} ranks {:.3f} (mean {:.3g} s of "
