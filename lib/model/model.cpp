@@ -46,8 +46,9 @@ void Model::check_consistency() const {
     PD_CHECK(std::is_sorted(bodies.node_offsets.begin(), bodies.node_offsets.end()),
              "body offsets must be monotone");
     same(bonds.offsets.size(), n + 1, "bonds.offsets");
-    PD_CHECK(bonds.offsets.back() == static_cast<offset_t>(bonds.neighbor.size()),
-             "bond offsets must end at the number of bonds");
+    PD_CHECK(bonds.neighbor.empty() ||
+                 bonds.offsets.back() == static_cast<offset_t>(bonds.neighbor.size()),
+             "bond offsets must end at the number of bonds (or the lists are not loaded)");
     for (auto m : bodies.material)
         PD_CHECK(m >= 0 && static_cast<std::size_t>(m) < materials.size(), "material index");
 }

@@ -81,8 +81,11 @@ struct Nodes {
 /// Bond list: CSR, full (i->j and j->i), same-body neighbours with |xi| < delta (spec 2.4).
 struct Bonds {
     std::vector<offset_t> offsets{0};
+    /// Every node's row (empty when only the offsets were read: pd-solve under MPI reads its
+    /// own rows separately, store::read_bond_rows).
     std::vector<index_t> neighbor;
-    std::size_t num() const { return neighbor.size(); }
+    std::size_t num() const { return static_cast<std::size_t>(offsets.back()); }
+    bool complete() const { return neighbor.size() == num(); }
 };
 
 /// One row of the contact table: the law between contact groups a and b (symmetric).

@@ -140,9 +140,13 @@ void solve(const SolveOptions& opt, Context& ctx) {
     std::optional<store::Checkpoint> ck;
     std::optional<store::Partition> part;
     double ck_read_seconds = 0;
+    // Under MPI every rank reads the model without the bond list, then its own rows of it
+    // (hyperslab reads) once its nodes are known.
+    std::unique_ptr<solver::Domain> dom;
+    std::vector<model::index_t> row_neighbors;
     {
         h5::File rf(opt.file, h5::Mode::read);
-        m = store::read_model(rf); // refuses a file it cannot read, untouched
+        m = store::read_model(rf, !par); // refuses a file it cannot read, untouched
         if (opt.restart) {
             const double t0 = wall_seconds();
             ck = store::read_latest_checkpoint(rf, m.nodes.num(), m.bonds.num());
@@ -158,6 +162,38 @@ void solve(const SolveOptions& opt, Context& ctx) {
             if (p.num_parts == ctx.size)
                 part = std::move(p);
         }
+        // The ranks' nodes: /partition if it was made for this rank count, else a new one.
+        if (par) {
+            if (!part) {
+                std::vector<std::int32_t> owner;
+                int failed = 0;
+                std::string why;
+                if (ctx.rank == 0) { // METIS once (on the whole bond list), the same for all
+                    try {
+                        const model::Model whole = store::read_model(rf);
+                        owner =
+                            node_owner(whole, make_partition(whole, ctx.size, "auto", opt.file));
+                    } catch (const std::exception& e) {
+                        failed = 1;
+                        why = e.what();
+                    }
+                }
+                MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
+                if (failed)
+                    throw InputError(ctx.rank == 0 ? why : "rank 0 could not partition the model");
+                owner.resize(m.nodes.num());
+                MPI_Bcast(owner.data(), static_cast<int>(owner.size()), MPI_INT32_T, 0, comm);
+                dom = std::make_unique<solver::Domain>(comm, std::move(owner));
+                ctx.log.info("/partition is missing or made for another rank count: partitioned "
+                             "anew for {} ranks",
+                             ctx.size);
+            } else {
+                dom = std::make_unique<solver::Domain>(comm, node_owner(m, *part));
+                ctx.log.info("/partition: {} parts by {} (edge cut {}, imbalance {:.3f})",
+                             part->num_parts, part->by, part->edge_cut, part->imbalance);
+            }
+            row_neighbors = store::read_bond_rows(rf, m, dom->runs());
+        }
     }
     // Provenance: by rank 0 alone, once the run's (parallel) file is closed.
     ctx.on_exit = [&ctx, file = opt.file](int code) {
@@ -169,26 +205,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
     if (opt.final_time > 0)
         m.solver.final_time = opt.final_time;
 
-    // The ranks' nodes: /partition if it was made for this rank count, else a new one.
-    std::unique_ptr<solver::Domain> dom;
-    if (par) {
-        if (!part) {
-            std::vector<std::int32_t> owner;
-            if (ctx.rank == 0) // METIS once, the same partition for every rank
-                owner = node_owner(m, make_partition(m, ctx.size, "auto", opt.file));
-            owner.resize(m.nodes.num());
-            MPI_Bcast(owner.data(), static_cast<int>(owner.size()), MPI_INT32_T, 0, comm);
-            dom = std::make_unique<solver::Domain>(comm, std::move(owner));
-            ctx.log.info("/partition is missing or made for another rank count: partitioned "
-                         "anew for {} ranks",
-                         ctx.size);
-        } else {
-            dom = std::make_unique<solver::Domain>(comm, node_owner(m, *part));
-            ctx.log.info("/partition: {} parts by {} (edge cut {}, imbalance {:.3f})",
-                         part->num_parts, part->by, part->edge_cut, part->imbalance);
-        }
-    }
-    solver::Solver s(m, dom.get());
+    solver::Solver s(m, dom.get(), std::move(row_neighbors));
     if (par) {
         const auto& domain = s.domain();
         // Work per rank: bonds plus nodes of the owned rows.

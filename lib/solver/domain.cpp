@@ -21,6 +21,10 @@ template <>
 MPI_Datatype mpi_type<std::uint8_t>() {
     return MPI_UINT8_T;
 }
+template <>
+MPI_Datatype mpi_type<std::int32_t>() {
+    return MPI_INT32_T;
+}
 
 int as_count(std::size_t n) {
     if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
@@ -206,6 +210,10 @@ void Domain::allgather(std::vector<std::uint8_t>& a, int ncomp) const {
 
 void Domain::allgather_csr(std::vector<std::uint8_t>& a,
                            const std::vector<offset_t>& offsets) const {
+    gather_rows(a, &offsets, 1);
+}
+
+void Domain::allgather_csr(std::vector<index_t>& a, const std::vector<offset_t>& offsets) const {
     gather_rows(a, &offsets, 1);
 }
 

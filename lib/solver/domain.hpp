@@ -68,6 +68,7 @@ class Domain {
     void allgather(std::vector<std::uint8_t>& a, int ncomp) const;
     /// Same for CSR data: rows of node i span [offsets[i], offsets[i+1]) (bond state).
     void allgather_csr(std::vector<std::uint8_t>& a, const std::vector<offset_t>& offsets) const;
+    void allgather_csr(std::vector<index_t>& a, const std::vector<offset_t>& offsets) const;
 
     double sum(double v) const;
     std::int64_t sum(std::int64_t v) const;

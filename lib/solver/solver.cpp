@@ -58,9 +58,10 @@ bool segments_cross(const double* a, const double* b, const double* c, const dou
 
 } // namespace
 
-Solver::Solver(const model::Model& m, Domain* dom)
+Solver::Solver(const model::Model& m, Domain* dom, std::vector<index_t> row_neighbors)
     : m_(m)
-    , dom_(dom) {
+    , dom_(dom)
+    , row_neighbors_(std::move(row_neighbors)) {
     const std::size_t n = m.nodes.num(), nb = m.bodies.num();
     if (!dom_) {
         serial_ = std::make_unique<Domain>(n);
@@ -169,6 +170,7 @@ Solver::Solver(const model::Model& m, Domain* dom)
     records_ = damping_ || friction_;
     take_rows();
     set_bond_ghosts();
+    family_factors();
     body_mass_.assign(nb, 0.0);
     for (std::size_t i = 0; i < n; ++i)
         body_mass_[static_cast<std::size_t>(s_.body[i])] += s_.rho[i] * s_.vol[i];
@@ -565,7 +567,7 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
                      const std::vector<double>& v, const std::vector<double>& f,
                      const std::vector<std::uint8_t>& alive, std::int64_t broken_total) {
     PD_CHECK(u.size() == s_.u.size() && v.size() == s_.v.size() && f.size() == s_.f.size() &&
-                 alive.size() == m_.bonds.neighbor.size(),
+                 alive.size() == m_.bonds.num(),
              "checkpoint sizes");
     initialized_ = true;
     s_.step = step;
@@ -680,51 +682,76 @@ double bond_length(const std::vector<double>& x0, std::size_t i, std::size_t j) 
 } // namespace
 
 void Solver::build_bonds() {
-    // This rank's rows of the bond list (s_.rows; all on one rank): reference lengths and
-    // partial-volume factors, computed once. Bond data of other ranks' rows is never stored.
+    // This rank's rows of the bond list (s_.rows; all on one rank): reference lengths,
+    // partial-volume factors and influence, computed once. Bond data of other ranks' rows is
+    // never stored. The neighbour lists come from the model, or, when it was read without
+    // them, from row_neighbors_ (the rows of s_.rows, read by hyperslab).
     const auto& m = m_;
-    const std::size_t nr = s_.rows.size(), n = s_.n;
+    const std::size_t nr = s_.rows.size();
     b_.offsets.assign(nr + 1, 0);
     for (std::size_t a = 0; a < nr; ++a) {
         const auto i = static_cast<std::size_t>(s_.rows[a]);
         b_.offsets[a + 1] = b_.offsets[a] + (m.bonds.offsets[i + 1] - m.bonds.offsets[i]);
     }
     const auto nbond = static_cast<std::size_t>(b_.offsets[nr]);
-    b_.neighbor.resize(nbond);
+    if (m.bonds.complete()) {
+        b_.neighbor.resize(nbond);
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto i = static_cast<std::size_t>(s_.rows[a]);
+            std::copy(m.bonds.neighbor.begin() + m.bonds.offsets[i],
+                      m.bonds.neighbor.begin() + m.bonds.offsets[i + 1],
+                      b_.neighbor.begin() + b_.offsets[a]);
+        }
+    } else {
+        if (row_neighbors_.size() != nbond)
+            throw InternalError(fmt::format("{} neighbours given for {} bonds of this rank's rows",
+                                            row_neighbors_.size(), nbond));
+        b_.neighbor = std::move(row_neighbors_);
+        row_neighbors_.clear();
+    }
     b_.xi.resize(nbond);
     b_.beta.resize(nbond);
     b_.alive.assign(nbond, 1);
     for (std::size_t a = 0; a < nr; ++a) {
         const auto i = static_cast<std::size_t>(s_.rows[a]);
         const auto b = static_cast<std::size_t>(s_.body[i]);
-        auto g = m.bonds.offsets[i];
-        for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k, ++g) {
+        for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
-            const auto j = m.bonds.neighbor[static_cast<std::size_t>(g)];
+            const auto j = b_.neighbor[kk];
             const double r = bond_length(s_.x0, i, static_cast<std::size_t>(j));
             if (!(r > 0))
                 throw InputError(fmt::format("nodes {} and {} coincide (zero-length bond)", i, j));
-            b_.neighbor[kk] = j;
             b_.xi[kk] = r;
             b_.beta[kk] = model::partial_volume(r, m.bodies.horizon[b], m.bodies.mesh_size[b]);
         }
     }
-    // Per-node sums over a node's whole family, for every node (the ghosts' values are needed
-    // too): from the model's bond list, each term computed as in the rows above.
-    auto family_sum = [&](auto&& term, std::vector<double>& out) {
-        out.assign(n, 0.0);
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto b = static_cast<std::size_t>(s_.body[i]);
-            double sum = 0;
-            for (auto g = m.bonds.offsets[i]; g < m.bonds.offsets[i + 1]; ++g) {
-                const auto j =
-                    static_cast<std::size_t>(m.bonds.neighbor[static_cast<std::size_t>(g)]);
-                const double r = bond_length(s_.x0, i, j);
-                sum +=
-                    term(b, r, model::partial_volume(r, m.bodies.horizon[b], m.bodies.mesh_size[b]),
-                         s_.vol[j]);
+    b_.omega.clear();
+    if (law_.any_lps || law_.any_rnp) {
+        b_.omega.resize(nbond);
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto b = static_cast<std::size_t>(s_.body[static_cast<std::size_t>(s_.rows[a])]);
+            const auto inf = m.materials[static_cast<std::size_t>(m.bodies.material[b])].influence;
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                b_.omega[kk] = model::influence(inf, b_.xi[kk] / m.bodies.horizon[b]);
             }
-            out[i] = sum;
+        }
+    }
+}
+
+void Solver::family_factors() {
+    // Per-node sums over a node's family, of the owned rows; the ghosts' values come from their
+    // owners (the bond ghosts must be set).
+    const std::size_t nr = s_.rows.size(), n = s_.n;
+    auto own_sum = [&](auto&& term, std::vector<double>& out) {
+        out.assign(n, 0.0);
+        for (std::size_t a = 0; a < nr; ++a) {
+            double sum = 0;
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                sum += term(kk, s_.vol[static_cast<std::size_t>(b_.neighbor[kk])]);
+            }
+            out[static_cast<std::size_t>(s_.rows[a])] = sum;
         }
     };
     // Optional PMB surface correction (solver.surface_correction, off by default): the discrete
@@ -736,16 +763,17 @@ void Solver::build_bonds() {
     // over-stiffens surfaces in uniaxial stress: measured on a 3D bar, section force +9 % with
     // it against -3.5 % without at h = 0.25 mm (tests/unit/solver/test_accuracy.cpp).
     b_.stiff = b_.beta;
-    if (m.solver.surface_correction) {
+    if (m_.solver.surface_correction) {
         std::vector<double> lambda;
-        family_sum([](std::size_t, double r, double beta, double vj) { return r * beta * vj; },
-                   lambda);
-        for (std::size_t i = 0; i < n; ++i) {
-            const double d = m.bodies.horizon[static_cast<std::size_t>(s_.body[i])];
+        own_sum([&](std::size_t k, double vj) { return b_.xi[k] * b_.beta[k] * vj; }, lambda);
+        for (auto row : s_.rows) {
+            const auto i = static_cast<std::size_t>(row);
+            const double d = m_.bodies.horizon[static_cast<std::size_t>(s_.body[i])];
             const double cont =
-                m.dimension == 3 ? M_PI * std::pow(d, 4) : 2.0 * M_PI * std::pow(d, 3) / 3.0;
+                m_.dimension == 3 ? M_PI * std::pow(d, 4) : 2.0 * M_PI * std::pow(d, 3) / 3.0;
             lambda[i] = lambda[i] > 0 ? cont / lambda[i] : 1.0;
         }
+        dom_->exchange({&lambda}, 1);
         for (std::size_t a = 0; a < nr; ++a) {
             const auto i = static_cast<std::size_t>(s_.rows[a]);
             for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
@@ -755,30 +783,17 @@ void Solver::build_bonds() {
             }
         }
     }
-    if (law_.any_lps || law_.any_rnp) {
-        auto influence = [&](std::size_t b) {
-            return m.materials[static_cast<std::size_t>(m.bodies.material[b])].influence;
-        };
-        b_.omega.resize(nbond);
-        for (std::size_t a = 0; a < nr; ++a) {
-            const auto b = static_cast<std::size_t>(s_.body[static_cast<std::size_t>(s_.rows[a])]);
-            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
-                const auto kk = static_cast<std::size_t>(k);
-                b_.omega[kk] = model::influence(influence(b), b_.xi[kk] / m.bodies.horizon[b]);
-            }
-        }
-        if (law_.any_lps) {
-            // LPS weighted volume m_i = sum_j w xi^2 beta V_j (spec 1.3) of every node.
-            family_sum(
-                [&](std::size_t b, double r, double beta, double vj) {
-                    return model::influence(influence(b), r / m.bodies.horizon[b]) * r * r * beta *
-                           vj;
-                },
+    if (law_.any_lps) {
+        // LPS weighted volume m_i = sum_j w xi^2 beta V_j (spec 1.3).
+        own_sum([&](std::size_t k,
+                    double vj) { return b_.omega[k] * b_.xi[k] * b_.xi[k] * b_.beta[k] * vj; },
                 law_.m);
-            for (auto& w : law_.m)
-                w = w > 0 ? w : 1.0; // a node with no bond has theta = 0 and no force
-            law_.theta.assign(n, 0.0);
+        for (auto row : s_.rows) {
+            auto& w = law_.m[static_cast<std::size_t>(row)];
+            w = w > 0 ? w : 1.0; // a node with no bond has theta = 0 and no force
         }
+        dom_->exchange({&law_.m}, 1);
+        law_.theta.assign(n, 0.0);
     }
 }
 
@@ -819,6 +834,9 @@ void Solver::redistribute(Domain* dom) {
     dom_->allgather(s_.v, 3);
     dom_->allgather(s_.f, 3);
     const auto alive = global_alive();
+    std::vector<index_t> neighbors;
+    if (!m_.bonds.complete())
+        neighbors = global_neighbors();
     // The unloading factors of the last evaluation (friction limits of the next one).
     std::vector<double> mine;
     for (const auto& [key, value] : unload_)
@@ -843,8 +861,16 @@ void Solver::redistribute(Domain* dom) {
     if (dom_->num_nodes() != s_.n)
         throw InternalError("redistribute: a domain of another model");
     take_rows();
-    build_bonds();
     const auto& B = m_.bonds;
+    if (!B.complete()) { // the new rows' neighbour lists
+        row_neighbors_.clear();
+        for (auto row : s_.rows) {
+            const auto i = static_cast<std::size_t>(row);
+            row_neighbors_.insert(row_neighbors_.end(), neighbors.begin() + B.offsets[i],
+                                  neighbors.begin() + B.offsets[i + 1]);
+        }
+    }
+    build_bonds();
     for (std::size_t a = 0; a < s_.rows.size(); ++a) {
         const auto i = static_cast<std::size_t>(s_.rows[a]);
         std::copy(alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i]),
@@ -852,6 +878,7 @@ void Solver::redistribute(Domain* dom) {
                   b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]));
     }
     set_bond_ghosts(); // contact ghosts join at the next (forced) rebuild
+    family_factors();
     external_work_ = dom_->rank() == 0 ? work : 0.0;
     power_ = dom_->rank() == 0 ? power : 0.0;
     broken_total_ = count_broken();
@@ -866,7 +893,7 @@ std::int64_t Solver::count_broken() const {
 
 void Solver::alive_into(std::vector<std::uint8_t>& full) const {
     const auto& B = m_.bonds;
-    full.resize(B.neighbor.size());
+    full.resize(B.num());
     for (std::size_t a = 0; a < s_.rows.size(); ++a)
         std::copy(b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]),
                   b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a + 1]),
@@ -874,8 +901,20 @@ void Solver::alive_into(std::vector<std::uint8_t>& full) const {
                       static_cast<std::ptrdiff_t>(B.offsets[static_cast<std::size_t>(s_.rows[a])]));
 }
 
+std::vector<index_t> Solver::global_neighbors() const {
+    if (m_.bonds.complete())
+        return m_.bonds.neighbor;
+    const auto& B = m_.bonds;
+    std::vector<index_t> full(B.num(), 0);
+    for (std::size_t a = 0; a < s_.rows.size(); ++a)
+        std::copy(b_.neighbor.begin() + b_.offsets[a], b_.neighbor.begin() + b_.offsets[a + 1],
+                  full.begin() + B.offsets[static_cast<std::size_t>(s_.rows[a])]);
+    dom_->allgather_csr(full, B.offsets);
+    return full;
+}
+
 std::vector<std::uint8_t> Solver::global_alive() const {
-    std::vector<std::uint8_t> full(m_.bonds.neighbor.size(), 1);
+    std::vector<std::uint8_t> full(m_.bonds.num(), 1);
     alive_into(full);
     dom_->allgather_csr(full, m_.bonds.offsets);
     return full;
@@ -887,6 +926,7 @@ void Solver::take_rows() {
 }
 
 void Solver::set_bond_ghosts() {
+    bonds_cross_ranks_ = false;
     if (!dom_->distributed())
         return;
     check_whole_grains();
@@ -896,6 +936,7 @@ void Solver::set_bond_ghosts() {
             bond_ghosts_.push_back(j);
     std::sort(bond_ghosts_.begin(), bond_ghosts_.end());
     bond_ghosts_.erase(std::unique(bond_ghosts_.begin(), bond_ghosts_.end()), bond_ghosts_.end());
+    bonds_cross_ranks_ = dom_->any(!bond_ghosts_.empty());
     dom_->set_ghosts(bond_ghosts_);
 }
 
@@ -1083,13 +1124,10 @@ void Solver::broken_per_node(std::vector<double>& count) const {
 }
 
 void Solver::fragments(std::vector<double>& id) const {
-    // Components can span ranks (node partition): every rank needs every bond's state.
-    // On one rank the bond list is this rank's rows.
-    std::vector<std::uint8_t> gathered;
-    if (dom_->distributed())
-        gathered = global_alive();
-    const auto& alive = dom_->distributed() ? gathered : b_.alive;
-    const auto& B = m_.bonds;
+    // Union-find over intact bonds; the smaller root becomes the root, so every id is the
+    // smallest node index of its component whatever the order of the unions. When no bond joins
+    // two ranks (whole grains per rank) each rank's rows hold its nodes' components entirely;
+    // otherwise every rank needs every bond (gathered: memory of the whole bond list, briefly).
     std::vector<index_t> parent(s_.n);
     for (std::size_t i = 0; i < s_.n; ++i)
         parent[i] = static_cast<index_t>(i);
@@ -1101,15 +1139,25 @@ void Solver::fragments(std::vector<double>& id) const {
         }
         return a;
     };
-    for (std::size_t i = 0; i < s_.n; ++i)
-        for (auto k = B.offsets[i]; k < B.offsets[i + 1]; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            if (!alive[kk])
-                continue;
-            const index_t a = find(static_cast<index_t>(i)), b = find(B.neighbor[kk]);
-            if (a != b) // the smaller index becomes the root
-                parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-        }
+    auto unite = [&](index_t i, index_t j) {
+        const index_t a = find(i), b = find(j);
+        if (a != b)
+            parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    };
+    if (!bonds_cross_ranks_) {
+        for (std::size_t a = 0; a < s_.rows.size(); ++a)
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k)
+                if (b_.alive[static_cast<std::size_t>(k)])
+                    unite(s_.rows[a], b_.neighbor[static_cast<std::size_t>(k)]);
+    } else {
+        const auto alive = global_alive();
+        const auto neighbor = global_neighbors();
+        const auto& B = m_.bonds;
+        for (std::size_t i = 0; i < s_.n; ++i)
+            for (auto k = B.offsets[i]; k < B.offsets[i + 1]; ++k)
+                if (alive[static_cast<std::size_t>(k)])
+                    unite(static_cast<index_t>(i), neighbor[static_cast<std::size_t>(k)]);
+    }
     id.resize(s_.n);
     for (std::size_t i = 0; i < s_.n; ++i)
         id[i] = static_cast<double>(find(static_cast<index_t>(i)));

@@ -44,7 +44,10 @@ class Solver {
     /// `dom`: the nodes this rank owns and its ghost exchange (nullptr: one rank owns all).
     /// Collective over the domain's ranks, as are initialize(), advance(), observe(),
     /// fragments() and broken_total().
-    explicit Solver(const model::Model& m, Domain* dom = nullptr);
+    /// `row_neighbors`: when `m` was read without its neighbour lists (store::read_model with
+    /// neighbors = false), those of the domain's rows, concatenated in row order.
+    explicit Solver(const model::Model& m, Domain* dom = nullptr,
+                    std::vector<index_t> row_neighbors = {});
 
     StableDt stable_dt() const;
     void set_dt(double dt) { dt_ = dt; }
@@ -132,13 +135,20 @@ class Solver {
     void build_bonds();
     /// Ghosts for the bond neighbours owned elsewhere (collective).
     void set_bond_ghosts();
+    /// Surface-correction factors and LPS weighted volumes of the rows and their ghosts
+    /// (collective; after set_bond_ghosts()).
+    void family_factors();
+    /// Every node's neighbour list (the model's, or gathered from the ranks; collective).
+    std::vector<index_t> global_neighbors() const;
     /// Broken bond ends in this rank's rows.
     std::int64_t count_broken() const;
 
     const model::Model& m_;
     std::unique_ptr<Domain> serial_; ///< the one-rank domain when none is given
     Domain* dom_ = nullptr;
-    std::vector<index_t> bond_ghosts_; ///< bond neighbours of owned nodes owned elsewhere
+    std::vector<index_t> bond_ghosts_;   ///< bond neighbours of owned nodes owned elsewhere
+    std::vector<index_t> row_neighbors_; ///< neighbour lists for build_bonds() (then empty)
+    bool bonds_cross_ranks_ = false;     ///< some bond joins nodes of two ranks
     State s_;
     BondData b_;
     BodyLaw law_;

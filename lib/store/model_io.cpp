@@ -274,7 +274,23 @@ void write_model(h5::File& f, const model::Model& m) {
     f.flush();
 }
 
-model::Model read_model(const h5::File& f) {
+std::vector<model::index_t> read_bond_rows(const h5::File& f, const model::Model& m,
+                                           const std::vector<std::array<std::uint64_t, 2>>& runs) {
+    const std::string p = std::string(path::bonds) + "/neighbor";
+    std::vector<model::index_t> out;
+    for (const auto& r : runs) {
+        const auto b = static_cast<std::uint64_t>(m.bonds.offsets[r[0]]),
+                   e = static_cast<std::uint64_t>(m.bonds.offsets[r[1]]);
+        if (e > b) {
+            auto part = f.read_rows<std::int32_t>(p, b, e - b);
+            out.insert(out.end(), part.begin(), part.end());
+        }
+    }
+    require_range<std::int32_t>(f, p, out, 0, static_cast<std::int32_t>(m.nodes.num()));
+    return out;
+}
+
+model::Model read_model(const h5::File& f, bool neighbors) {
     check_version(f);
     model::Model m;
     m.dimension = f.attr<std::int32_t>("/", "dimension");
@@ -376,15 +392,20 @@ model::Model read_model(const h5::File& f) {
     // Bonds.
     const std::string bo = path::bonds;
     m.bonds.offsets = get<std::int64_t>(f, bo + "/offsets", {n + 1});
-    m.bonds.neighbor = get<std::int32_t>(f, bo + "/neighbor", {0});
+    const auto shape = f.shape(bo + "/neighbor");
+    const std::uint64_t nbond = shape.size() == 1 ? shape[0] : 0;
+    if (shape.size() != 1)
+        throw SchemaError(f.name(), bo + "/neighbor", "must be one-dimensional");
     if (m.bonds.offsets.front() != 0 ||
-        m.bonds.offsets.back() != static_cast<std::int64_t>(m.bonds.neighbor.size()) ||
+        m.bonds.offsets.back() != static_cast<std::int64_t>(nbond) ||
         !std::is_sorted(m.bonds.offsets.begin(), m.bonds.offsets.end()))
-        throw SchemaError(
-            f.name(), bo + "/offsets",
-            fmt::format("must rise from 0 to the bond count {}", m.bonds.neighbor.size()));
-    require_range<std::int32_t>(f, bo + "/neighbor", m.bonds.neighbor, 0,
-                                static_cast<std::int32_t>(n));
+        throw SchemaError(f.name(), bo + "/offsets",
+                          fmt::format("must rise from 0 to the bond count {}", nbond));
+    if (neighbors) {
+        m.bonds.neighbor = get<std::int32_t>(f, bo + "/neighbor", {0});
+        require_range<std::int32_t>(f, bo + "/neighbor", m.bonds.neighbor, 0,
+                                    static_cast<std::int32_t>(n));
+    }
     // Contact.
     const std::string c = path::contact;
     auto ga = get<std::int32_t>(f, c + "/group_a", {0});

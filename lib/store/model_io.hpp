@@ -5,6 +5,10 @@
 
 #include "model/model.hpp"
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 namespace pd::h5 {
 class File;
 }
@@ -16,6 +20,12 @@ void write_model(h5::File& f, const model::Model& m);
 
 /// Reads and validates the static part. Each dataset is checked for presence, shape and range;
 /// a violation throws SchemaError naming the file and dataset path.
-model::Model read_model(const h5::File& f);
+/// With `neighbors` false, /bonds/neighbor is left unread (m.bonds.complete() is false).
+model::Model read_model(const h5::File& f, bool neighbors = true);
+
+/// The neighbour lists of the nodes in `runs` ([begin, end) node ranges, ascending), concatenated
+/// in node order: hyperslab reads of /bonds/neighbor, checked against the node count.
+std::vector<model::index_t> read_bond_rows(const h5::File& f, const model::Model& m,
+                                           const std::vector<std::array<std::uint64_t, 2>>& runs);
 
 } // namespace pd::store
