@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+// Reading a rank's part of the bond list: store::read_bond_rows gives exactly the rows of the
+// whole list, and a Solver built from them equals one built from the whole model.
+#include "h5/file.hpp"
+#include "pipeline/scene.hpp"
+#include "solver/solver.hpp"
+#include "store/model_io.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace {
+
+using namespace pd;
+
+TEST(BondRows, PartialReadEqualsTheRowsOfTheWholeList) {
+    const Log quiet("test", 0, Verbosity::quiet);
+    const std::string scene = R"({"dimension": 2,
+      "materials": {"m1": {"law": "lps", "density": 1200, "youngs_modulus": 3.24e7,
+                            "poisson_ratio": 0.25}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m1"},
+                    {"radius": 1e-3, "center": [3e-3, 0], "material": "m1"}],
+      "solver": {"final_time": 1e-3, "surface_correction": true}})";
+    const auto built = pipeline::build_scene(scene, "scene.json", quiet);
+    const auto path = std::filesystem::temp_directory_path() / "pd_test_bond_rows.h5";
+    {
+        h5::File f(path.string(), h5::Mode::create_truncate);
+        store::write_model(f, built);
+    }
+    h5::File f(path.string(), h5::Mode::read);
+    const auto whole = store::read_model(f);
+    const auto part = store::read_model(f, false);
+    ASSERT_TRUE(whole.bonds.complete());
+    ASSERT_FALSE(part.bonds.complete());
+    EXPECT_EQ(part.bonds.num(), whole.bonds.num());
+    const std::size_t n = whole.nodes.num();
+    const std::vector<std::array<std::uint64_t, 2>> runs{{0, 7}, {40, 41}, {n - 30, n}};
+    const auto rows = store::read_bond_rows(f, part, runs);
+    std::vector<model::index_t> expect;
+    for (const auto& r : runs)
+        expect.insert(expect.end(), whole.bonds.neighbor.begin() + whole.bonds.offsets[r[0]],
+                      whole.bonds.neighbor.begin() + whole.bonds.offsets[r[1]]);
+    EXPECT_EQ(rows, expect);
+    // A solver from the offsets plus every row's neighbours equals one from the whole model,
+    // bond data, surface factors and LPS weighted volumes included.
+    solver::Solver a(whole), b(part, nullptr, store::read_bond_rows(f, part, {{0, n}}));
+    EXPECT_EQ(a.bonds().neighbor, b.bonds().neighbor);
+    EXPECT_EQ(a.bonds().stiff, b.bonds().stiff);
+    EXPECT_EQ(a.bonds().omega, b.bonds().omega);
+    EXPECT_EQ(a.stable_dt().limit, b.stable_dt().limit);
+    a.set_dt(1e-7);
+    b.set_dt(1e-7);
+    a.initialize();
+    b.initialize();
+    for (int k = 0; k < 5; ++k) {
+        a.advance();
+        b.advance();
+    }
+    EXPECT_EQ(a.state().f, b.state().f);
+    std::filesystem::remove(path);
+}
+
+} // namespace
