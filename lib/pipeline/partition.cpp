@@ -18,12 +18,16 @@ store::Partition make_partition(const model::Model& m, int num_parts, const std:
         throw InputError(fmt::format("-n {}: the number of parts must be at least 1", num_parts));
     if (by_in != "auto" && by_in != "body" && by_in != "grain" && by_in != "node")
         throw InputError(fmt::format("--by {}: expected grain, node or auto", by_in));
-    // auto: whole grains per part when there are enough of them (at least 4 per part), else
-    // nodes (a plate, a few large grains).
-    const std::string by = by_in == "grain"                                            ? "body"
-                           : by_in != "auto"                                           ? by_in
-                           : m.bodies.num() >= 4 * static_cast<std::size_t>(num_parts) ? "body"
-                                                                                       : "node";
+    // auto: whole grains per part when there are enough of them (at least 4 per part, or one
+    // when grain-level damping needs whole grains), else nodes (a plate, a few large grains).
+    bool damped = false;
+    for (const auto& c : m.contact)
+        damped = damped || (c.restitution < 1 && c.stiffness > 0);
+    const std::size_t enough = (damped ? 1 : 4) * static_cast<std::size_t>(num_parts);
+    const std::string by = by_in == "grain"           ? "body"
+                           : by_in != "auto"          ? by_in
+                           : m.bodies.num() >= enough ? "body"
+                                                      : "node";
     const std::size_t work = by == "body" ? m.bodies.num() : m.nodes.num();
     if (static_cast<std::size_t>(num_parts) > work)
         throw InputError(fmt::format("-n {}: more parts than the {} {} of {}", num_parts, work,
