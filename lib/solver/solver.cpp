@@ -41,6 +41,28 @@ double space_value(model::SpaceFn f, double p0, const double* X, const std::arra
     return 0;
 }
 
+/// The rows `rows` of a whole bond-list array (CSR `whole`), concatenated: this rank's CSR.
+template <class T>
+std::vector<T> rows_of(const std::vector<T>& from, const std::vector<offset_t>& whole,
+                       const std::vector<index_t>& rows) {
+    std::vector<T> out;
+    for (auto row : rows) {
+        const auto i = static_cast<std::size_t>(row);
+        out.insert(out.end(), from.begin() + whole[i], from.begin() + whole[i + 1]);
+    }
+    return out;
+}
+
+/// Writes this rank's CSR rows (`local`, over `rows`) into their places of a whole-list array.
+template <class T>
+void put_rows(const std::vector<T>& from, const std::vector<offset_t>& local,
+              const std::vector<index_t>& rows, const std::vector<offset_t>& whole,
+              std::vector<T>& to) {
+    for (std::size_t a = 0; a < rows.size(); ++a)
+        std::copy(from.begin() + local[a], from.begin() + local[a + 1],
+                  to.begin() + whole[static_cast<std::size_t>(rows[a])]);
+}
+
 /// Do the segments ab and cd cross (in the xy plane)? Touching counts.
 bool segments_cross(const double* a, const double* b, const double* c, const double* d) {
     auto orient = [](const double* p, const double* q, const double* r) {
@@ -577,13 +599,7 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
     s_.f = f;
     for (std::size_t k = 0; k < s_.x.size(); ++k)
         s_.x[k] = s_.x0[k] + s_.u[k];
-    const auto& B = m_.bonds;
-    for (std::size_t a = 0; a < s_.rows.size(); ++a) {
-        const auto i = static_cast<std::size_t>(s_.rows[a]);
-        std::copy(alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i]),
-                  alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i + 1]),
-                  b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]));
-    }
+    b_.alive = rows_of(alive, m_.bonds.offsets, s_.rows);
     // This rank's share of the broken bonds (`broken_total` counts every rank's).
     broken_total_ = count_broken();
     if (dom_->sum(broken_total_) != broken_total)
@@ -695,13 +711,7 @@ void Solver::build_bonds() {
     }
     const auto nbond = static_cast<std::size_t>(b_.offsets[nr]);
     if (m.bonds.complete()) {
-        b_.neighbor.resize(nbond);
-        for (std::size_t a = 0; a < nr; ++a) {
-            const auto i = static_cast<std::size_t>(s_.rows[a]);
-            std::copy(m.bonds.neighbor.begin() + m.bonds.offsets[i],
-                      m.bonds.neighbor.begin() + m.bonds.offsets[i + 1],
-                      b_.neighbor.begin() + b_.offsets[a]);
-        }
+        b_.neighbor = rows_of(m.bonds.neighbor, m.bonds.offsets, s_.rows);
     } else {
         if (row_neighbors_.size() != nbond)
             throw InternalError(fmt::format("{} neighbours given for {} bonds of this rank's rows",
@@ -862,21 +872,10 @@ void Solver::redistribute(Domain* dom) {
         throw InternalError("redistribute: a domain of another model");
     take_rows();
     const auto& B = m_.bonds;
-    if (!B.complete()) { // the new rows' neighbour lists
-        row_neighbors_.clear();
-        for (auto row : s_.rows) {
-            const auto i = static_cast<std::size_t>(row);
-            row_neighbors_.insert(row_neighbors_.end(), neighbors.begin() + B.offsets[i],
-                                  neighbors.begin() + B.offsets[i + 1]);
-        }
-    }
+    if (!B.complete()) // the new rows' neighbour lists
+        row_neighbors_ = rows_of(neighbors, B.offsets, s_.rows);
     build_bonds();
-    for (std::size_t a = 0; a < s_.rows.size(); ++a) {
-        const auto i = static_cast<std::size_t>(s_.rows[a]);
-        std::copy(alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i]),
-                  alive.begin() + static_cast<std::ptrdiff_t>(B.offsets[i + 1]),
-                  b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]));
-    }
+    b_.alive = rows_of(alive, B.offsets, s_.rows);
     set_bond_ghosts(); // contact ghosts join at the next (forced) rebuild
     family_factors();
     external_work_ = dom_->rank() == 0 ? work : 0.0;
@@ -892,24 +891,16 @@ std::int64_t Solver::count_broken() const {
 }
 
 void Solver::alive_into(std::vector<std::uint8_t>& full) const {
-    const auto& B = m_.bonds;
-    full.resize(B.num());
-    for (std::size_t a = 0; a < s_.rows.size(); ++a)
-        std::copy(b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a]),
-                  b_.alive.begin() + static_cast<std::ptrdiff_t>(b_.offsets[a + 1]),
-                  full.begin() +
-                      static_cast<std::ptrdiff_t>(B.offsets[static_cast<std::size_t>(s_.rows[a])]));
+    full.resize(m_.bonds.num());
+    put_rows(b_.alive, b_.offsets, s_.rows, m_.bonds.offsets, full);
 }
 
 std::vector<index_t> Solver::global_neighbors() const {
     if (m_.bonds.complete())
         return m_.bonds.neighbor;
-    const auto& B = m_.bonds;
-    std::vector<index_t> full(B.num(), 0);
-    for (std::size_t a = 0; a < s_.rows.size(); ++a)
-        std::copy(b_.neighbor.begin() + b_.offsets[a], b_.neighbor.begin() + b_.offsets[a + 1],
-                  full.begin() + B.offsets[static_cast<std::size_t>(s_.rows[a])]);
-    dom_->allgather_csr(full, B.offsets);
+    std::vector<index_t> full(m_.bonds.num(), 0);
+    put_rows(b_.neighbor, b_.offsets, s_.rows, m_.bonds.offsets, full);
+    dom_->allgather_csr(full, m_.bonds.offsets);
     return full;
 }
 
