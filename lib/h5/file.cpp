@@ -282,27 +282,16 @@ std::size_t File::type_size(const std::string& path) const {
 
 template <Element T>
 void File::write(const std::string& path, std::span<const T> data, const dims_t& dims) {
-    if (product(dims) != data.size())
-        throw InternalError(fmt::format("{}: {}: {} values for shape of {}", name_, path,
-                                        data.size(), product(dims)));
-    ensure_parent(path);
-    remove(path);
-    auto h = to_h(dims);
-    Handle space(H5Screate_simple(static_cast<int>(h.size()), h.data(), nullptr));
-    Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
-                        H5P_DEFAULT));
-    if (!d.valid())
-        fail(path, "cannot create dataset");
-    if (data.empty())
-        return;
-    Handle fs(H5Dget_space(d.get())),
-        ms(H5Screate_simple(static_cast<int>(h.size()), h.data(), nullptr));
+    // Every rank takes part; under MPI-IO rank 0's data is written.
+    const bool writes = !parallel_ || rank_ == 0;
+    write_runs(path, data, dims, writes && !dims.empty() ? runs_t{{0, dims[0]}} : runs_t{});
+}
+
+void File::root_only(hid file_space, hid mem_space) const {
     if (parallel_ && rank_ != 0) { // rank 0 writes, the others take part
-        H5Sselect_none(fs.get());
-        H5Sselect_none(ms.get());
+        H5Sselect_none(file_space);
+        H5Sselect_none(mem_space);
     }
-    if (H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), data.data()) < 0)
-        fail(path, "write failed");
 }
 
 namespace {
@@ -378,10 +367,7 @@ void File::write_scalar(const std::string& path, T value) {
     Handle d(H5Dcreate2(id_.get(), path.c_str(), native<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
                         H5P_DEFAULT));
     Handle fs(H5Screate(H5S_SCALAR)), ms(H5Screate(H5S_SCALAR));
-    if (parallel_ && rank_ != 0) {
-        H5Sselect_none(fs.get());
-        H5Sselect_none(ms.get());
-    }
+    root_only(fs.get(), ms.get());
     if (!d.valid() || H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), &value) < 0)
         fail(path, "cannot write scalar");
 }
@@ -519,10 +505,7 @@ void File::write_rows(const std::string& path, std::span<const T> data, std::uin
     Handle fs(H5Dget_space(d.get()));
     H5Sselect_hyperslab(fs.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
     Handle ms(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
-    if (parallel_ && rank_ != 0) {
-        H5Sselect_none(fs.get());
-        H5Sselect_none(ms.get());
-    }
+    root_only(fs.get(), ms.get());
     if (H5Dwrite(d.get(), native<T>(), ms.get(), fs.get(), xfer_.get(), data.data()) < 0)
         fail(path, "write failed");
 }

@@ -156,6 +156,8 @@ class File {
     Handle open_object(const std::string& path) const;
     Handle open_dataset(const std::string& path) const;
     void ensure_parent(const std::string& path);
+    /// Under MPI-IO, empties both selections on every rank but 0.
+    void root_only(hid file_space, hid mem_space) const;
     [[noreturn]] void fail(const std::string& path, const std::string& what) const;
 
     std::string name_;
