@@ -75,10 +75,28 @@ std::vector<double> observable_row(const solver::Observables& o) {
                           o.momentum[1],
                           o.momentum[2],
                           static_cast<double>(o.contact_count),
-                          static_cast<double>(o.broken_bonds)};
+                          static_cast<double>(o.broken_bonds),
+                          o.fracture_energy,
+                          o.damping_dissipation,
+                          o.friction_dissipation,
+                          o.viscous_dissipation,
+                          o.gravity_potential};
     r.insert(r.end(), o.wall_force.begin(), o.wall_force.end());
     r.insert(r.end(), o.wall_moment.begin(), o.wall_moment.end());
     return r;
+}
+
+/// KE + elastic + contact + dissipated - external work: constant in an exact integration.
+double energy_balance(const solver::Observables& o) {
+    return o.kinetic_energy + o.elastic_energy + o.contact_energy + o.fracture_energy +
+           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation - o.external_work;
+}
+
+/// The scale the balance drift is measured against.
+double energy_in_play(const solver::Observables& o) {
+    return o.kinetic_energy + o.elastic_energy + o.contact_energy + std::abs(o.fracture_energy) +
+           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation +
+           std::abs(o.external_work);
 }
 
 /// Re-partitions the grains where they are now (--rebalance, at a checkpoint): METIS on the
@@ -303,6 +321,10 @@ void solve(const SolveOptions& opt, Context& ctx) {
             // The work is a sum over ranks: rank 0 carries what the checkpoint recorded.
             s.set_external_work(ctx.rank == 0 ? ck->external_work : 0.0,
                                 ctx.rank == 0 ? ck->external_power : 0.0);
+            if (ctx.rank == 0) {
+                const auto& d = ck->dissipation;
+                s.set_dissipation({d[0], d[1], d[2], d[3], d[4], d[5], d[6]});
+            }
             ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s; read in {:.3g} "
                          "s)",
                          ck->step, ck->time, ck_read_seconds);
@@ -332,6 +354,11 @@ void solve(const SolveOptions& opt, Context& ctx) {
             c.broken_total = s.broken_total();
             c.external_work = s.domain().sum(s.external_work());
             c.external_power = s.domain().sum(s.external_power_last());
+            const auto& d = s.dissipation();
+            std::vector<double> diss{d.fracture,     d.damping,       d.friction,    d.viscous,
+                                     d.damping_rate, d.friction_rate, d.viscous_rate};
+            s.domain().sum(diss);
+            std::copy(diss.begin(), diss.end(), c.dissipation.begin());
             if (par) {
                 c.node_runs = s.domain().runs();
                 for (const auto& r : c.node_runs)
@@ -340,17 +367,41 @@ void solve(const SolveOptions& opt, Context& ctx) {
             }
             store::write_checkpoint(*f, c);
         };
-        double energy0 = 0;
+        double energy0 = 0, balance0 = 0, in_play = 0;
         if (first == 0) {
             const auto o = s.observe();
             energy0 = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+            balance0 = energy_balance(o);
+            in_play = energy_in_play(o);
         } else {
-            // Initial energy from the first observable row (kept across restarts).
+            // Initial energy and balance from the first observable row (kept across restarts;
+            // NaN in a file from before pd-file 1.2: no balance check), the energy in play as the
+            // largest over the rows so far.
             auto series = store::read_observables(*f);
-            const auto ke = series.find("kinetic_energy"), ee = series.find("elastic_energy"),
-                       ce = series.find("contact_energy");
-            if (ke != series.end() && !ke->second.value.empty())
-                energy0 = ke->second.value[0] + ee->second.value[0] + ce->second.value[0];
+            auto at = [&](const char* name, std::size_t r) {
+                const auto it = series.find(name);
+                return it != series.end() && r < it->second.value.size()
+                           ? it->second.value[r]
+                           : std::numeric_limits<double>::quiet_NaN();
+            };
+            const auto ke = series.find("kinetic_energy");
+            const std::size_t rows = ke != series.end() ? ke->second.value.size() : 0;
+            for (std::size_t r = 0; r < rows; ++r) {
+                solver::Observables o;
+                o.kinetic_energy = at("kinetic_energy", r);
+                o.elastic_energy = at("elastic_energy", r);
+                o.contact_energy = at("contact_energy", r);
+                o.external_work = at("external_work", r);
+                o.fracture_energy = at("fracture_energy", r);
+                o.damping_dissipation = at("damping_dissipation", r);
+                o.friction_dissipation = at("friction_dissipation", r);
+                o.viscous_dissipation = at("viscous_dissipation", r);
+                if (r == 0) {
+                    energy0 = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+                    balance0 = energy_balance(o);
+                }
+                in_play = std::max(in_play, energy_in_play(o));
+            }
         }
         double next_report = wall_seconds() + opt.progress_seconds;
         s.timers().add(s.timers().id("pd::setup"), wall_seconds() - wall0); // read, build, t = 0
@@ -379,11 +430,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
                                : std::string{},
                         dt));
                 }
-                // Blow-up: the mechanical energy far above what the system started with plus the
-                // work done on it (it can only lose energy to damping and fracture).
-                const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
-                if (e > 100.0 * (energy0 + std::max(0.0, o.external_work)) + 1e-300) {
-                    obs.flush();
+                // The fastest node of all ranks, for the messages below (collective).
+                auto fastest = [&] {
                     const auto& st = s.state();
                     std::size_t fast = 0;
                     double vmax = -1;
@@ -395,7 +443,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
                             fast = i;
                         }
                     }
-                    if (par) { // the fastest node of all ranks
+                    if (par) {
                         struct {
                             double v;
                             int i;
@@ -404,6 +452,15 @@ void solve(const SolveOptions& opt, Context& ctx) {
                         vmax = all.v;
                         fast = static_cast<std::size_t>(all.i);
                     }
+                    return std::pair{fast, vmax};
+                };
+                // Blow-up: the mechanical energy far above what the system started with plus the
+                // work done on it (it can only lose energy to damping and fracture).
+                const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+                if (e > 100.0 * (energy0 + std::max(0.0, o.external_work)) + 1e-300) {
+                    obs.flush();
+                    const auto& st = s.state();
+                    const auto [fast, vmax] = fastest();
                     throw NumericalError(fmt::format(
                         "{}: blow-up at step {} (t = {:.6g} s): energy {:.4g} J against {:.4g} J "
                         "initial plus {:.4g} J of external work (fastest: node {} of body {}, "
@@ -412,6 +469,26 @@ void solve(const SolveOptions& opt, Context& ctx) {
                         "stability estimate {:.4g} s)",
                         opt.file, n, st.time, e, energy0, o.external_work, fast, st.body[fast],
                         vmax, dt, est.limit));
+                }
+                // Energy balance: energy created (an instability, even one that fracture then
+                // absorbs) or lost without account shows up here long before 100x.
+                in_play = std::max(in_play, energy_in_play(o));
+                const double drift = energy_balance(o) - balance0;
+                if (opt.energy_tolerance > 0 && std::isfinite(balance0) &&
+                    std::abs(drift) > opt.energy_tolerance * in_play && in_play > 0) {
+                    obs.add(n, s.state().time, observable_row(o)); // the row that failed
+                    obs.flush();
+                    const auto [fast, vmax] = fastest();
+                    throw NumericalError(fmt::format(
+                        "{}: energy balance broken at step {} (t = {:.6g} s): KE + elastic + "
+                        "contact + dissipated - external work moved by {:+.4g} J, {:.3g} % of the "
+                        "{:.4g} J in play (tolerance {:.3g} %, --energy-tolerance; broken bonds "
+                        "{}; fastest: node {} of body {}, {:.3g} m/s). The time step (now {:.4g} "
+                        "s, stability estimate {:.4g} s) is too large or the model is unstable; "
+                        "the frames before stay in the file",
+                        opt.file, n, s.state().time, drift, 100 * std::abs(drift) / in_play,
+                        in_play, 100 * opt.energy_tolerance, o.broken_bonds, fast,
+                        s.state().body[fast], vmax, dt, est.limit));
                 }
                 obs.add(n, s.state().time, observable_row(o));
                 agreed = false;

@@ -18,6 +18,10 @@ struct SolveOptions {
     double progress_seconds = 10; ///< wall time between progress lines
     bool rebalance = false;       ///< re-partition the grains at checkpoints (MPI)
     int compress = 0;             ///< gzip level 1-9 of new frame datasets (0: none)
+    /// Energy balance guard: the run stops (exit 3) when KE + elastic + contact + dissipated -
+    /// external work drifts from its t = 0 value by more than this fraction of the energy in
+    /// play (the largest KE + elastic + contact + dissipated + |external work| seen). 0: off.
+    double energy_tolerance = 0.05;
     CommonOptions common;
 };
 

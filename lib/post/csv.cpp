@@ -51,6 +51,8 @@ std::size_t write_observables_csv(const h5::File& f, const std::string& csv_path
     std::vector<std::string> names;
     for (const auto& info : list) {
         auto it = series.find(info.name);
+        if (it == series.end() && !info.required)
+            continue; // a file from before the series was added
         if (it == series.end())
             throw SchemaError(f.name(), obs + "/" + info.name, "missing observable series");
         if (it->second.components != info.components)

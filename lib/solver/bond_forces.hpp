@@ -13,6 +13,12 @@ namespace pd::solver {
 struct BondResult {
     double elastic_energy = 0;     ///< J (2D: per unit thickness), of intact bonds
     std::int64_t newly_broken = 0; ///< bonds (each counted from both ends) broken this call
+    /// J: elastic energy the bonds broken in this call held at the positions of this call,
+    /// E(x, bonds before) - E(x, bonds after): what fracture dissipates.
+    double released_energy = 0;
+    /// J: energy of the repulsion across broken bonds (fragments of one grain, spec 4.7),
+    /// 1/2 k_rep (r_rep - l)^2 V_i V_j per pair closer than r_rep: a contact energy.
+    double repulsion_energy = 0;
 };
 
 /// Sets f = PMB force density of every node of a moving body (0 elsewhere); breaks bonds whose

@@ -286,27 +286,26 @@ void Solver::compute_forces() {
     {
         ScopedTimer t(timers_, t_bonds_);
         elastic_energy_ = 0;
-        if (law_.any_pmb || (!law_.any_lps && !law_.any_rnp)) {
-            auto res = pmb_bond_forces(s_, b_, law_);
+        repulsion_energy_ = 0;
+        auto book = [this](const BondResult& res) {
             elastic_energy_ += res.elastic_energy;
             broken_total_ += res.newly_broken;
-        }
+            diss_.fracture += res.released_energy;
+            repulsion_energy_ += res.repulsion_energy;
+        };
+        if (law_.any_pmb || (!law_.any_lps && !law_.any_rnp))
+            book(pmb_bond_forces(s_, b_, law_));
         if (law_.any_lps) {
             std::function<void()> between;
             if (dom_->distributed())
                 between = [this] {
                     ScopedTimer t(timers_, t_halo_);
-                    dom_->exchange({&law_.theta}, 1);
+                    dom_->exchange({&law_.theta, &law_.q}, 1);
                 };
-            auto res = lps_bond_forces(s_, b_, law_, between);
-            elastic_energy_ += res.elastic_energy;
-            broken_total_ += res.newly_broken;
+            book(lps_bond_forces(s_, b_, law_, between));
         }
-        if (law_.any_rnp) {
-            auto res = rnp_bond_forces(s_, b_, law_);
-            elastic_energy_ += res.elastic_energy;
-            broken_total_ += res.newly_broken;
-        }
+        if (law_.any_rnp)
+            book(rnp_bond_forces(s_, b_, law_));
         if (broken_total_ != exposed_at_) {
             // Damage exposes interior nodes: they join the contact search.
             for (std::size_t a = 0; a < s_.rows.size(); ++a)
@@ -342,6 +341,8 @@ void Solver::compute_forces() {
         wall_load_.force.assign(3 * walls_->num_walls(), 0.0);
         wall_load_.moment.assign(3 * walls_->num_walls(), 0.0);
     }
+    contact_energy_ += repulsion_energy_;
+    diss_.damping_rate = diss_.friction_rate = diss_.viscous_rate = 0;
     if (damping_) {
         ScopedTimer t(timers_, t_damping_);
         apply_damping(pair_records_, wall_records_);
@@ -371,12 +372,18 @@ void Solver::compute_forces() {
     if (m_.loading.viscous_damping > 0) {
         const double cd = m_.loading.viscous_damping;
         const auto n = static_cast<std::int64_t>(s_.rows.size());
-#pragma omp parallel for schedule(static) if (n > parallel_min)
+        double rate = 0; // dissipation rate: cd rho |v|^2 V of the moving components
+#pragma omp parallel for schedule(static) reduction(+ : rate) if (n > parallel_min)
         for (std::int64_t a = 0; a < n; ++a) {
             const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
-            for (int d = 0; d < 3; ++d)
-                s_.f[3 * i + d] -= cd * s_.rho[static_cast<std::size_t>(i)] * s_.v[3 * i + d];
+            const auto ii = static_cast<std::size_t>(i);
+            for (int d = 0; d < 3; ++d) {
+                s_.f[3 * i + d] -= cd * s_.rho[ii] * s_.v[3 * i + d];
+                if (s_.moving[ii] && !(s_.fixed_dof[ii] & (1u << d)))
+                    rate += cd * s_.rho[ii] * s_.v[3 * i + d] * s_.v[3 * i + d] * s_.vol[ii];
+            }
         }
+        diss_.viscous_rate = rate;
     }
     if (g_[0] != 0 || g_[1] != 0 || g_[2] != 0) {
         const auto n = static_cast<std::int64_t>(s_.rows.size());
@@ -502,6 +509,10 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
             wall_load_.moment[3 * w + 1] -= r[2] * Fd[0] - r[0] * Fd[2];
             wall_load_.moment[3 * w + 2] -= r[0] * Fd[1] - r[1] * Fd[0];
         }
+        // Dissipation rate -Fd . v_rel (> 0 while unloading), counted once: by the rank that
+        // owns grain a.
+        if (dom_->owns(m_.bodies.begin(static_cast<std::size_t>(a))))
+            diss_.damping_rate -= Fd[0] * vrel[0] + Fd[1] * vrel[1] + Fd[2] * vrel[2];
         if (wall) {
             auto& acc = accel[a];
             for (int d = 0; d < 3; ++d)
@@ -647,6 +658,8 @@ void Solver::apply_friction() {
         const double mi = s_.rho[i] * s_.vol[i], mj = s_.rho[j] * s_.vol[j];
         const double stop = mi * mj / (mi + mj) * vtm / dt_;
         const double ft = std::min(r.friction * fm * factor(r.a, r.b), stop) / vtm; // N per m/s
+        if (dom_->owns(r.i)) // a pair's record may be on two ranks: counted once
+            diss_.friction_rate += ft * vtm * vtm;
         for (std::size_t d = 0; d < 3; ++d) {
             s_.f[3 * i + d] += ft * vt[d] / s_.vol[i]; // i is dragged along the slip of j
             s_.f[3 * j + d] -= ft * vt[d] / s_.vol[j];
@@ -675,6 +688,7 @@ void Solver::apply_friction() {
             continue;
         const double stop = s_.rho[i] * s_.vol[i] * vtm / dt_;
         const double ft = std::min(r.friction * fm * factor(r.body, -1 - r.wall), stop) / vtm;
+        diss_.friction_rate += ft * vtm * vtm;
         double F[3];
         for (std::size_t d = 0; d < 3; ++d) {
             s_.f[3 * i + d] += ft * vt[d] / s_.vol[i];
@@ -804,6 +818,7 @@ void Solver::family_factors() {
         }
         dom_->exchange({&law_.m}, 1);
         law_.theta.assign(n, 0.0);
+        law_.q.assign(n, 0.0);
     }
 }
 
@@ -852,6 +867,10 @@ void Solver::redistribute(Domain* dom) {
     for (const auto& [key, value] : unload_)
         mine.insert(mine.end(), {double(key.first), double(key.second), value});
     const double work = dom_->sum(external_work_), power = dom_->sum(power_);
+    std::vector<double> diss{diss_.fracture,    diss_.damping,      diss_.friction,
+                             diss_.viscous,     diss_.damping_rate, diss_.friction_rate,
+                             diss_.viscous_rate};
+    dom_->sum(diss);
     if (dom_->distributed()) {
         int len = static_cast<int>(mine.size());
         std::vector<int> lens(static_cast<std::size_t>(dom_->size()));
@@ -880,6 +899,9 @@ void Solver::redistribute(Domain* dom) {
     family_factors();
     external_work_ = dom_->rank() == 0 ? work : 0.0;
     power_ = dom_->rank() == 0 ? power : 0.0;
+    for (double& d : diss)
+        d = dom_->rank() == 0 ? d : 0.0;
+    diss_ = {diss[0], diss[1], diss[2], diss[3], diss[4], diss[5], diss[6]};
     broken_total_ = count_broken();
     exposed_at_ = -1;
     contact_->invalidate();
@@ -953,6 +975,7 @@ void Solver::initialize() {
     compute_forces();
     power_ = external_power();
     external_work_ = 0;
+    diss_.fracture = diss_.damping = diss_.friction = diss_.viscous = 0;
 }
 
 void Solver::advance() {
@@ -982,6 +1005,9 @@ void Solver::advance() {
     }
     s_.time += dt;
     ++s_.step;
+    // Dissipation rates of the last evaluation (compute_forces sets the new ones).
+    const double damping_rate0 = diss_.damping_rate, friction_rate0 = diss_.friction_rate,
+                 viscous_rate0 = diss_.viscous_rate;
     apply_displacements();
     if (dom_->distributed()) {
         ScopedTimer t(timers_, t_halo_);
@@ -1008,6 +1034,9 @@ void Solver::advance() {
     const double p = external_power();
     external_work_ += 0.5 * (power_ + p) * dt; // trapezoidal in time
     power_ = p;
+    diss_.damping += 0.5 * (damping_rate0 + diss_.damping_rate) * dt;
+    diss_.friction += 0.5 * (friction_rate0 + diss_.friction_rate) * dt;
+    diss_.viscous += 0.5 * (viscous_rate0 + diss_.viscous_rate) * dt;
 }
 
 double Solver::external_power() const {
@@ -1045,9 +1074,9 @@ double Solver::external_power() const {
 
 Observables Solver::observe() const {
     Observables o;
-    double ke = 0, p0 = 0, p1 = 0, p2 = 0;
+    double ke = 0, p0 = 0, p1 = 0, p2 = 0, gp = 0;
     const auto n = static_cast<std::int64_t>(s_.rows.size());
-#pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2) if (n > parallel_min)
+#pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2, gp) if (n > parallel_min)
     for (std::int64_t a = 0; a < n; ++a) {
         const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
         const double mass =
@@ -1057,6 +1086,8 @@ Observables Solver::observe() const {
         p0 += mass * v[0];
         p1 += mass * v[1];
         p2 += mass * v[2];
+        if (s_.moving[static_cast<std::size_t>(i)])
+            gp -= mass * (g_[0] * s_.u[3 * i] + g_[1] * s_.u[3 * i + 1] + g_[2] * s_.u[3 * i + 2]);
     }
     o.kinetic_energy = ke;
     o.momentum[0] = p0;
@@ -1065,6 +1096,11 @@ Observables Solver::observe() const {
     o.elastic_energy = elastic_energy_;
     o.contact_energy = contact_energy_;
     o.external_work = external_work_;
+    o.fracture_energy = diss_.fracture;
+    o.damping_dissipation = diss_.damping;
+    o.friction_dissipation = diss_.friction;
+    o.viscous_dissipation = diss_.viscous;
+    o.gravity_potential = gp;
     o.contact_count = contact_count_;
     o.wall_force = wall_load_.force;
     o.wall_moment = wall_load_.moment;
@@ -1079,7 +1115,12 @@ Observables Solver::observe() const {
                                 o.contact_energy,
                                 o.external_work,
                                 static_cast<double>(o.contact_count),
-                                static_cast<double>(o.broken_bonds)};
+                                static_cast<double>(o.broken_bonds),
+                                o.fracture_energy,
+                                o.damping_dissipation,
+                                o.friction_dissipation,
+                                o.viscous_dissipation,
+                                o.gravity_potential};
         all.insert(all.end(), o.wall_force.begin(), o.wall_force.end());
         all.insert(all.end(), o.wall_moment.begin(), o.wall_moment.end());
         dom_->sum(all);
@@ -1091,11 +1132,15 @@ Observables Solver::observe() const {
         o.external_work = all[6];
         o.contact_count = static_cast<std::int64_t>(all[7]);
         o.broken_bonds = static_cast<std::int64_t>(all[8]);
-        const std::size_t nw = o.wall_force.size();
-        std::copy(all.begin() + 9, all.begin() + 9 + static_cast<std::ptrdiff_t>(nw),
-                  o.wall_force.begin());
-        std::copy(all.begin() + 9 + static_cast<std::ptrdiff_t>(nw), all.end(),
-                  o.wall_moment.begin());
+        o.fracture_energy = all[9];
+        o.damping_dissipation = all[10];
+        o.friction_dissipation = all[11];
+        o.viscous_dissipation = all[12];
+        o.gravity_potential = all[13];
+        constexpr std::ptrdiff_t first = 14;
+        const auto nw = static_cast<std::ptrdiff_t>(o.wall_force.size());
+        std::copy(all.begin() + first, all.begin() + first + nw, o.wall_force.begin());
+        std::copy(all.begin() + first + nw, all.end(), o.wall_moment.begin());
     }
     o.broken_bonds /= 2;
     return o;

@@ -27,11 +27,19 @@ struct StableDt {
 
 /// Quantities observed after a step (2D: per unit thickness).
 struct Observables {
-    double kinetic_energy = 0;       ///< J
-    double elastic_energy = 0;       ///< J, intact bonds
-    double contact_energy = 0;       ///< J, contact springs
-    double external_work = 0;        ///< J, work of gravity, force and displacement conditions,
-                                     ///< moving walls since t = 0
+    double kinetic_energy = 0; ///< J
+    double elastic_energy = 0; ///< J, intact bonds
+    double contact_energy = 0; ///< J, contact springs
+    double external_work = 0;  ///< J, work of gravity, force and displacement conditions,
+                               ///< moving walls since t = 0
+    // Energy dissipated since t = 0 (J, cumulative): with them the balance
+    // KE + elastic + contact + fracture + damping + friction + viscous - external_work
+    // stays at its t = 0 value (to the integrator's error; pd-solve's guard checks it).
+    double fracture_energy = 0;      ///< elastic energy bonds held when they broke
+    double damping_dissipation = 0;  ///< removed by hysteretic contact damping
+    double friction_dissipation = 0; ///< removed by Coulomb friction
+    double viscous_dissipation = 0;  ///< removed by viscous relaxation
+    double gravity_potential = 0;    ///< J, -sum m g . u of moving nodes (part of external_work)
     double momentum[3] = {0, 0, 0};  ///< kg m s-1
     std::int64_t contact_count = 0;  ///< node pairs (and node-wall pairs) closer than R_c
     std::int64_t broken_bonds = 0;   ///< broken bonds (pairs)
@@ -50,7 +58,10 @@ class Solver {
                     std::vector<index_t> row_neighbors = {});
 
     StableDt stable_dt() const;
-    void set_dt(double dt) { dt_ = dt; }
+    void set_dt(double dt) {
+        dt_ = dt;
+        law_.dt = dt;
+    }
     double dt() const { return dt_; }
 
     /// Sets initial velocities and computes forces at t = 0. Call once before step().
@@ -118,6 +129,14 @@ class Solver {
         external_work_ = w;
         power_ = power;
     }
+    /// Energy dissipated since t = 0 on this rank's nodes (J), and the dissipation rates of the
+    /// last force evaluation (W) their trapezoidal integration continues from: checkpointed.
+    struct Dissipation {
+        double fracture = 0, damping = 0, friction = 0, viscous = 0;
+        double damping_rate = 0, friction_rate = 0, viscous_rate = 0;
+    };
+    const Dissipation& dissipation() const { return diss_; }
+    void set_dissipation(const Dissipation& d) { diss_ = d; }
 
   private:
     void compute_forces();
@@ -175,6 +194,8 @@ class Solver {
     bool has_prescribed_ = false;
     double external_work_ = 0;
     double power_ = 0; ///< external power at the last force evaluation
+    Dissipation diss_;
+    double repulsion_energy_ = 0; ///< broken-bond repulsion of the last evaluation (J)
     bool initialized_ = false;
     Timers timers_;
     int t_bonds_, t_contact_, t_search_, t_integrate_, t_walls_, t_damping_, t_halo_ = 0;

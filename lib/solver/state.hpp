@@ -75,12 +75,16 @@ struct BodyLaw {
     std::vector<double> krep;  ///< broken-bond repulsion stiffness 18 K / (pi delta^(d+2)), N m-7
     std::vector<double> rrep;  ///< broken-bond repulsion radius 0.95 h, m (spec 4.7)
     int dimension = 2;
+    double dt = 0; ///< time step (s): the fracture energy's step correction
     bool any_breakable = false;
     bool any_pmb = false;
     bool any_lps = false;
     bool any_rnp = false;
     std::vector<double> m;     ///< LPS weighted volume per node, m^(d+2)
     std::vector<double> theta; ///< LPS dilatation per node (work array)
+    /// LPS: theta / d (1 - m_intact / m) per node, 0 for a whole family (work array; see the
+    /// LPS kernel in bond_forces.cpp)
+    std::vector<double> q;
 };
 
 } // namespace pd::solver

@@ -7,6 +7,13 @@
 
 namespace pd::store {
 
+const std::array<const char*, 7>& checkpoint_dissipation() {
+    static const std::array<const char*, 7> names{
+        "fracture_energy", "damping_dissipation", "friction_dissipation", "viscous_dissipation",
+        "damping_rate",    "friction_rate",       "viscous_rate"};
+    return names;
+}
+
 void write_checkpoint(h5::File& f, const Checkpoint& c) {
     const std::string root = path::checkpoints;
     f.create_group(root);
@@ -33,6 +40,8 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.set_attr(g, "broken_total", c.broken_total);
     f.set_attr(g, "external_work", c.external_work);
     f.set_attr(g, "external_power", c.external_power);
+    for (std::size_t k = 0; k < c.dissipation.size(); ++k)
+        f.set_attr(g, checkpoint_dissipation()[k], c.dissipation[k]);
     f.set_attr(g, "complete", std::int32_t{1});
     f.flush();
     f.set_attr(root, "latest", name);
@@ -58,6 +67,9 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
     c.broken_total = f.attr<std::int64_t>(g, "broken_total");
     c.external_work = f.attr<double>(g, "external_work");
     c.external_power = f.attr<double>(g, "external_power");
+    for (std::size_t k = 0; k < c.dissipation.size(); ++k)
+        if (f.has_attr(g, checkpoint_dissipation()[k]))
+            c.dissipation[k] = f.attr<double>(g, checkpoint_dissipation()[k]);
     auto get3 = [&](const std::string& p) {
         h5::dims_t d;
         auto v = f.read<double>(g + "/" + p, &d);

@@ -26,10 +26,17 @@ struct Checkpoint {
     std::int64_t broken_total = 0;   ///< broken bonds counted from both ends
     double external_work = 0;        ///< J, since t = 0
     double external_power = 0;       ///< W, at this step (trapezoidal work integration)
+    /// Energy dissipated since t = 0 (J: fracture, damping, friction, viscous) and the rates of
+    /// the last force evaluation (W: damping, friction, viscous), in checkpoint_dissipation
+    /// order. Files before pd-file 1.2 have none: zeros.
+    std::array<double, 7> dissipation{};
     /// Under MPI, what this rank writes: its nodes' rows of u, v, f and its bonds' entries of
     /// `alive` ([begin, end) runs; the vectors hold every node and bond). Empty = all.
     std::vector<std::array<std::uint64_t, 2>> node_runs, bond_runs;
 };
+
+/// Attribute names of Checkpoint::dissipation.
+const std::array<const char*, 7>& checkpoint_dissipation();
 
 /// Writes `c` as /checkpoints/step_<N>, then points @latest at it and deletes older ones.
 void write_checkpoint(h5::File& f, const Checkpoint& c);

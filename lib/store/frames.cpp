@@ -6,6 +6,7 @@
 #include "store/schema.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace pd::store {
 
@@ -27,10 +28,19 @@ const std::vector<FieldInfo>& frame_fields() {
 }
 
 const std::vector<ObservableInfo>& observable_list() {
-    static const std::vector<ObservableInfo> o{
-        {"kinetic_energy", 1, "J"}, {"elastic_energy", 1, "J"},  {"contact_energy", 1, "J"},
-        {"external_work", 1, "J"},  {"momentum", 3, "kg m s-1"}, {"contact_count", 1, "1"},
-        {"broken_bonds", 1, "1"}};
+    static const std::vector<ObservableInfo> o{{"kinetic_energy", 1, "J"},
+                                               {"elastic_energy", 1, "J"},
+                                               {"contact_energy", 1, "J"},
+                                               {"external_work", 1, "J"},
+                                               {"momentum", 3, "kg m s-1"},
+                                               {"contact_count", 1, "1"},
+                                               {"broken_bonds", 1, "1"},
+                                               // pd-file 1.2: the energy balance
+                                               {"fracture_energy", 1, "J", false},
+                                               {"damping_dissipation", 1, "J", false},
+                                               {"friction_dissipation", 1, "J", false},
+                                               {"viscous_dissipation", 1, "J", false},
+                                               {"gravity_potential", 1, "J", false}};
     return o;
 }
 
@@ -199,6 +209,24 @@ void ObservableWriter::flush() {
                 f_.hard_link(first + "/time", g + "/time");
             }
         }
+    }
+    // A series this pd-solve records that a file from an older one lacks (a restart): created
+    // and filled with NaN up to the rows already there (pd-file 1.2 added the dissipation
+    // series).
+    for (const auto& c : cols) {
+        const std::string g = O + "/" + c.name;
+        if (f_.exists(g + "/value"))
+            continue;
+        const auto have = f_.shape(first + "/step").at(0);
+        f_.create_extendible<double>(g + "/value", c.inner, 4096);
+        f_.set_attr(g + "/value", "unit", c.unit);
+        f_.hard_link(first + "/step", g + "/step");
+        f_.hard_link(first + "/time", g + "/time");
+        if (have > 0)
+            f_.append<double>(
+                g + "/value",
+                std::vector<double>(have * c.width, std::numeric_limits<double>::quiet_NaN()),
+                have);
     }
     const std::size_t rows = steps_.size();
     if (rows == 0)

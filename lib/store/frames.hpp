@@ -88,6 +88,7 @@ struct ObservableInfo {
     std::string name;
     int components;
     std::string unit;
+    bool required = true; ///< false: added in a later pd-file minor version (older files lack it)
 };
 const std::vector<ObservableInfo>& observable_list();
 

@@ -19,7 +19,10 @@ def observables(h5):
     std, extra = [], []
     for e in json.loads((SCHEMA_DIR / "pd-file.schema.json").read_text())["entries"]:
         m = re.fullmatch(r"/observables/(\w+)/value", e["path"])
-        if m and e["path"].rsplit("/", 1)[0] in REQUIRED:
+        # the standard series: required, or optional ones of one value or 3-vector per row
+        # (since pd-file 1.2) when present; per-item series (walls) follow in name order
+        if m and (e["path"].rsplit("/", 1)[0] in REQUIRED or
+                  (m.group(1) in h5["observables"] and e["rank"] == 1)):
             std.append(m.group(1))
     for name in sorted(h5["observables"]):
         if name not in std:

@@ -21,6 +21,10 @@ int main(int argc, char** argv) {
     app.add_flag("--rebalance", opt.rebalance,
                  "under MPI: re-partition the grains where they are at each checkpoint");
     app.add_option("--final-time", opt.final_time, "override the scene's final time (s)");
+    app.add_option("--energy-tolerance", opt.energy_tolerance,
+                   "stop (exit 3) when the energy balance drifts by more than this fraction of "
+                   "the energy in play (default 0.05; 0: off)")
+        ->check(CLI::Range(0.0, 1e6));
     app.add_option("--progress-every", opt.progress_seconds, "seconds between progress lines");
     pd::add_common_flags(app, opt.common);
     CLI11_PARSE(app, argc, argv);

@@ -96,6 +96,7 @@ TEST(Pmb, BreakingIsSymmetricAndTensionOnly) {
     const double r = 1e-4;
     s.x0 = {0, 0, 0, r, 0, 0};
     s.f.assign(6, 0);
+    s.v.assign(6, 0);
     s.vol = {1e-8, 1e-8};
     s.body = {0, 0};
     s.moving = {1, 1};

@@ -1,0 +1,227 @@
+// SPDX-License-Identifier: MIT
+// The energy balance (issue 10): the LPS force is the exact gradient of its energy also for a
+// family that lost bonds; KE + elastic + contact + fracture + damping + friction + viscous -
+// external work keeps its t = 0 value when bonds break, contacts damp and rub, and viscous
+// relaxation acts; each dissipation term is counted where it happens.
+#include "core/log.hpp"
+#include "pipeline/scene.hpp"
+#include "solver/solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace {
+
+using namespace pd;
+
+const Log quiet("test", 0, Verbosity::quiet);
+
+double balance(const solver::Observables& o) {
+    return o.kinetic_energy + o.elastic_energy + o.contact_energy + o.fracture_energy +
+           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation - o.external_work;
+}
+
+double in_play(const solver::Observables& o) {
+    return o.kinetic_energy + o.elastic_energy + o.contact_energy + std::abs(o.fracture_energy) +
+           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation +
+           std::abs(o.external_work);
+}
+
+/// Largest |balance - balance(0)| over the run, relative to the largest energy in play.
+struct Drift {
+    double worst = 0, scale = 0, b0 = 0;
+    void start(const solver::Observables& o) {
+        b0 = balance(o);
+        scale = in_play(o);
+    }
+    void add(const solver::Observables& o) {
+        scale = std::max(scale, in_play(o));
+        worst = std::max(worst, std::abs(balance(o) - b0));
+    }
+    double relative() const { return worst / scale; }
+};
+
+// A pre-cracked plate pulled apart at 2 m/s top and bottom (as tests/mpi/scenes.py PLATE).
+std::string plate(const std::string& law) {
+    return R"({"dimension": 2, "title": "plate",
+      "materials": {"m": {"law": ")" +
+           law + R"(", "density": 1200, "youngs_modulus": 3.24e7,)" +
+           (law == "lps" ? R"( "poisson_ratio": 0.25,)" : "") + R"( "fracture_energy": 5}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "shapes": {"plate": {"type": "rectangle", "corners": [[0, 0], [0.01, 0.005]],
+                           "mesh": "grid"}},
+      "particles": [{"shape": "plate", "center": [0, 0], "material": "m"}],
+      "cracks": [{"from": [-1e-3, 0.00251], "to": [0.004, 0.00251]}],
+      "loading": {"conditions": [
+        {"name": "top", "kind": "displacement", "region": {"min": [-1, 0.0046], "max": [1, 1]},
+         "components": ["y"], "time_function": "linear", "value": 2.0},
+        {"name": "bottom", "kind": "displacement", "region": {"min": [-1, -1], "max": [1, 4e-4]},
+         "components": ["y"], "time_function": "linear", "value": -2.0}]},
+      "solver": {"final_time": 1e-4}})";
+}
+
+TEST(Lps, ForceIsTheGradientOfTheEnergyWithBrokenBonds) {
+    // A disc with a third of its bonds broken (every bond crossing x > 0.3 R from the left, and
+    // random others) and a random small deformation: f_i V_i = -dE/dx_i by central differences.
+    // Without the q term (the derivative of the deviatoric energy through theta when m_intact !=
+    // m) the damaged nodes' forces are off by several per cent.
+    auto m = pipeline::build_scene(R"({"dimension": 2, "title": "t",
+      "materials": {"m": {"law": "lps", "density": 1200, "youngs_modulus": 3.24e7,
+                          "poisson_ratio": 0.2}},
+      "discretization": {"mesh_size": 2.5e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m"}],
+      "solver": {"final_time": 1e-3}})",
+                                   "t", quiet);
+    // Unbreakable material: break bonds by hand; the kernel must honour them, so make the law
+    // breakable with a huge critical stretch instead.
+    m.materials[0].fracture_energy = 1e12;
+    solver::Solver s(m);
+    auto& st = s.state();
+    auto& b = s.bonds();
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> U(-1, 1);
+    std::size_t broken = 0;
+    for (std::size_t i = 0; i < st.n; ++i)
+        for (auto k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
+            const auto j = static_cast<std::size_t>(b.neighbor[k]);
+            const bool cut = (st.x0[3 * i] < 3e-4) != (st.x0[3 * j] < 3e-4) ||
+                             (i * 7919 + j * 7919) % 5 == 0; // symmetric in i, j
+            if (cut) {
+                b.alive[k] = 0;
+                ++broken;
+            }
+        }
+    ASSERT_GT(broken, b.alive.size() / 8);
+    for (std::size_t k = 0; k < 3 * st.n; ++k)
+        if (k % 3 != 2)
+            st.x[k] = st.x0[k] + 2e-6 * U(rng);
+    auto energy_and_force = [&] {
+        s.initialize();
+        return s.observe().elastic_energy;
+    };
+    energy_and_force();
+    const auto f = st.f;
+    double fscale = 0;
+    for (std::size_t i = 0; i < st.n; ++i)
+        fscale = std::max(fscale, std::hypot(f[3 * i], f[3 * i + 1]) * st.vol[i]);
+    double worst = 0;
+    const double h = 1e-9;
+    for (std::size_t i = 0; i < st.n; i += 3)
+        for (std::size_t d = 0; d < 2; ++d) {
+            const double x = st.x[3 * i + d];
+            st.x[3 * i + d] = x + h;
+            const double ep = energy_and_force();
+            st.x[3 * i + d] = x - h;
+            const double em = energy_and_force();
+            st.x[3 * i + d] = x;
+            const double fd = -(ep - em) / (2 * h);
+            worst = std::max(worst, std::abs(fd - f[3 * i + d] * st.vol[i]));
+        }
+    EXPECT_LT(worst / fscale, 1e-5);
+}
+
+TEST(Energy, FractureClosesTheBalance) {
+    // The pre-cracked plate, PMB and LPS: ~1500 bonds break in 1e-4 s. Without the fracture
+    // term the balance drifts by the fracture energy (7 % of the energy in play); counting the
+    // released energy at the positions of the breaking step without the half-step work
+    // correction leaves 2 %; with it, the drift is the integrator's (measured 0.1-0.2 %).
+    for (const char* law : {"pmb", "lps"}) {
+        auto sc = plate(law);
+        if (std::string(law) == "pmb") { // the bond-based law fixes nu = 1/3
+            const auto p = sc.find(R"( "poisson_ratio": 0.25,)");
+            if (p != std::string::npos)
+                sc.erase(p, 22);
+        }
+        auto m = pipeline::build_scene(sc, "t", quiet);
+        solver::Solver s(m);
+        s.set_dt(0.7 * s.stable_dt().limit);
+        s.initialize();
+        Drift drift;
+        drift.start(s.observe());
+        const auto steps = static_cast<int>(1e-4 / s.dt());
+        for (int k = 0; k < steps; ++k) {
+            s.advance();
+            drift.add(s.observe());
+        }
+        const auto o = s.observe();
+        EXPECT_GT(o.broken_bonds, 1500) << law;
+        EXPECT_GT(o.fracture_energy, 0.05 * drift.scale) << law;
+        EXPECT_LT(drift.relative(), 5e-3) << law;
+    }
+}
+
+TEST(Energy, DampingFrictionAndViscousDissipationAreCounted) {
+    // Two discs collide obliquely with restitution 0.5 and friction 0.4, in a viscous medium:
+    // every channel takes energy, and the balance closes.
+    auto m = pipeline::build_scene(R"({"dimension": 2, "title": "t",
+      "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+      "particles": [
+        {"radius": 1e-3, "center": [-1.1e-3, 0], "material": "m", "velocity": [1, 0.3]},
+        {"radius": 1e-3, "center": [1.1e-3, 0.6e-3], "material": "m", "velocity": [-1, -0.3]}],
+      "contact": {"restitution": 0.5, "friction": 0.4},
+      "loading": {"viscous_damping": 50},
+      "solver": {"final_time": 6e-4}})",
+                                   "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.7 * s.stable_dt().limit);
+    s.initialize();
+    Drift drift;
+    drift.start(s.observe());
+    const auto steps = static_cast<int>(6e-4 / s.dt());
+    for (int k = 0; k < steps; ++k) {
+        s.advance();
+        drift.add(s.observe());
+    }
+    const auto o = s.observe();
+    const double ke0 = drift.scale;
+    EXPECT_GT(o.damping_dissipation, 0.05 * ke0);
+    EXPECT_GT(o.friction_dissipation, 1e-3 * ke0);
+    EXPECT_GT(o.viscous_dissipation, 0.01 * ke0);
+    EXPECT_LT(drift.relative(), 5e-3);
+}
+
+TEST(Energy, ViscousDissipationEqualsTheKineticEnergyLost) {
+    // A free disc in a viscous medium: v(t) = v0 exp(-c t), all of the kinetic energy lost is
+    // viscous dissipation.
+    auto m = pipeline::build_scene(R"({"dimension": 2, "title": "t",
+      "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m", "velocity": [1, 2]}],
+      "loading": {"viscous_damping": 2000},
+      "solver": {"final_time": 1e-3}})",
+                                   "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.5 * s.stable_dt().limit);
+    s.initialize();
+    const auto o0 = s.observe();
+    const int steps = static_cast<int>(5e-4 / s.dt());
+    for (int k = 0; k < steps; ++k)
+        s.advance();
+    const auto o = s.observe();
+    const double t = s.state().time;
+    EXPECT_NEAR(o.kinetic_energy / o0.kinetic_energy, std::exp(-2 * 2000 * t), 1e-3);
+    EXPECT_NEAR(o.viscous_dissipation / (o0.kinetic_energy - o.kinetic_energy), 1.0, 1e-3);
+}
+
+TEST(Energy, GravityPotentialIsTheWorkOfGravity) {
+    auto m = pipeline::build_scene(R"({"dimension": 2, "title": "t",
+      "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m", "velocity": [0, 1]}],
+      "loading": {"gravity": [0, -100]},
+      "solver": {"final_time": 1e-3}})",
+                                   "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.5 * s.stable_dt().limit);
+    s.initialize();
+    for (int k = 0; k < 500; ++k)
+        s.advance();
+    const auto o = s.observe();
+    EXPECT_NEAR(o.gravity_potential / -o.external_work, 1.0, 1e-6);
+    EXPECT_GT(o.gravity_potential, 0); // it rose
+}
+
+} // namespace
