@@ -55,7 +55,7 @@ speed_bound
     displacement conditions (plus a T/rho for force densities), T the last frame time, c =
     sqrt(E/rho) the bar wave speed and s the material's critical stretch (the larger of the PMB
     sqrt(4 pi Gc / (9 E delta)) and LPS sqrt(Gc / ((3G + (3/4)^4 (K - 5G/3)) delta)), capped at 1;
-    0.1 when Gc = 0). Why: a stress wave changes the particle velocity by c times the strain
+    1 when Gc = 0). Why: a stress wave changes the particle velocity by c times the strain
     jump, an intact bond carries at most s, a reflection doubles it; gravity adds g T. A run
     that loses stability grows its speeds exponentially and passes this bound within a few
     steps. The velocity field is used when present, else position differences between frames.
@@ -206,7 +206,7 @@ class Model:
     def strain_scale(self, mat, delta):
         m = self.mats[mat]
         if m["Gc"] <= 0:
-            return 0.1
+            return 1.0
         E, nu = m["E"], m["nu"]
         G, K = E / (2 * (1 + nu)), E / (3 * (1 - 2 * nu))
         s_pmb = math.sqrt(4 * math.pi * m["Gc"] / (9 * E * delta))
