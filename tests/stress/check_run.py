@@ -50,15 +50,16 @@ momentum
     /loading/conditions, no viscous damping): max_t |p(t) - p(0)| <= 1e-4 P, with
     P = sqrt(2 M max_t KE) (M the total mass). Else SKIP.
 speed_bound
-    max over frames and nodes of |v| <= 2 V0 + |g| T + 2 max_materials(c s), where V0 is the
-    largest of the initial node speeds, the rigid-wall surface speeds and the rates of the
-    displacement conditions (plus a T/rho for force densities), T the last frame time, c =
-    sqrt(E/rho) the bar wave speed and s the material's critical stretch (the larger of the PMB
-    sqrt(4 pi Gc / (9 E delta)) and LPS sqrt(Gc / ((3G + (3/4)^4 (K - 5G/3)) delta)), capped at 1;
-    1 when Gc = 0). Why: a stress wave changes the particle velocity by c times the strain
-    jump, an intact bond carries at most s, a reflection doubles it; gravity adds g T. A run
-    that loses stability grows its speeds exponentially and passes this bound within a few
-    steps. The velocity field is used when present, else position differences between frames.
+    max over frames and nodes of |v| <= 2 V0 + |g| T + 2 max(c s), where V0 is the largest of
+    the initial node speeds, the rigid-wall surface speeds and the rates of the displacement
+    conditions (plus a T/rho for force densities), T the last frame time, and the max runs over
+    the materials of the moving (not fixed) bodies: c = sqrt(E/rho) the bar wave speed, s the
+    critical stretch (the larger of the PMB sqrt(4 pi Gc / (9 E delta)) and the LPS
+    sqrt(Gc / ((3G + (3/4)^4 (K - 5G/3)) delta)), capped at 1; 1 when Gc = 0). Why: a stress
+    wave changes the particle velocity by c times the strain jump, an intact bond carries at
+    most s, a reflection doubles it; gravity adds g T. A run that loses stability grows its
+    speeds exponentially and passes this bound within a few steps. The velocity field is used
+    when present, else position differences between frames.
 pdsolve_exit (set by the caller, not here): the suite requires pd-solve to exit 3, never 0,
     when any of the checks above fails.
 """
@@ -277,11 +278,10 @@ def check_penetration(model, fr):
     """no_interpenetration (grain into grain) and no_wall_body_penetration (into a fixed or
     meshed-wall body)."""
     wallish = (model.kind == 1) | (model.fixed == 1)
-    moving = ~wallish
     r = 2.0 * float(model.h.max())
-    worst = {False: (-np.inf, ""), True: (-np.inf, "")}
-    bound = {False: 0.5 * float(model.h[moving].min()) if moving.any() else 0.0,
-             True: 0.5 * float(model.h[wallish].min()) if wallish.any() else 0.0}
+    # per class (False: into a grain, True: into a fixed or meshed-wall body): the worst ratio
+    # e / (h_B / 2), its e, its bound h_B / 2 and where it happened
+    worst = {False: (-np.inf, 0.0, 0.0, ""), True: (-np.inf, 0.0, 0.0, "")}
     pairs_exist = {False: False, True: False}
     gb = model.group[model.body]
     for k in range(fr.count):
@@ -308,12 +308,13 @@ def check_penetration(model, fr):
                 if not sel.any():
                     continue
                 pairs_exist[w] = True
-                # excess in units of the bound of the body entered
-                ratio = e[sel] / (0.5 * model.h[bb[sel]])
+                half_h = 0.5 * model.h[bb[sel]]
+                ratio = e[sel] / half_h
                 m = int(np.argmax(ratio))
-                if ratio[m] * bound[w] > worst[w][0]:
-                    worst[w] = (float(e[sel][m]), "t = %.4g s: node %d (body %d) %.3g m inside "
-                                "body %d beyond R_c = %.3g m (h = %.3g m)" % (
+                if ratio[m] > worst[w][0]:
+                    worst[w] = (float(ratio[m]), float(e[sel][m]), float(half_h[m]),
+                                "t = %.4g s: node %d (body %d) %.3g m inside body %d, beyond "
+                                "R_c = %.3g m (h = %.3g m)" % (
                                     fr.time[k], a[sel][m], ba[sel][m], e[sel][m] + rc[sel][m],
                                     bb[sel][m], rc[sel][m], model.h[bb[sel][m]]))
     out = []
@@ -322,9 +323,9 @@ def check_penetration(model, fr):
             out.append(Check(name, None, detail="no interacting pair ever within reach"
                              if (wallish.any() or not w) else "no meshed or fixed walls"))
             continue
-        v, det = worst[w]
-        out.append(Check(name, bool(v <= bound[w]), v, bound[w],
-                         "max depth beyond R_c (m); " + det))
+        ratio, e, half_h, det = worst[w]
+        out.append(Check(name, bool(ratio <= 1.0), e, half_h,
+                         "max depth beyond R_c (m) vs h/2 of the body entered; " + det))
     return out
 
 
@@ -441,6 +442,8 @@ def speed_bound(model, fr):
     g = float(np.linalg.norm(model.gravity)) * T
     wave = 0.0
     for b in range(model.nb):
+        if model.fixed[b]:
+            continue  # not integrated: its nodes do not move
         m = model.mats[int(model.material[b])]
         c = math.sqrt(m["E"] / m["rho"])
         wave = max(wave, c * model.strain_scale(int(model.material[b]), model.delta[b]))

@@ -125,10 +125,10 @@ EXAMPLE_RUNS = {
     "three_d_csg/scene.json": 3e-4,
     "two_discs/scene.json": 6e-4,
     "two_spheres_3d/scene.json": 1e-3,
-    "ellipse_on_tip/scene_lps.json": 1e-3,
-    "ellipse_on_tip/scene_pmb.json": 1e-3,
+    "ellipse_on_tip/scene_lps.json": 4e-3,
+    "ellipse_on_tip/scene_pmb.json": 4e-3,
 }
-FRAMES = 10
+FRAMES = 20
 # Examples that break a check and exit 0 today (measured on this branch; see the table).
 TUNNEL = ("contact tunnelling (contact.cpp): nodes of one body end up inside another, deeper "
           "than R_c + h/2, and pd-solve exits 0")
@@ -137,8 +137,10 @@ EXAMPLE_XFAIL = {
     # inside the fixed container (0.29 mm)
     "compressive_small/scene.json": TUNNEL,
     "compressive_small/scene_hard.json": TUNNEL,
-    # the apex node of the fixed tip passes the ring's surface layer (0.30 mm deep, R_c 0.125)
-    "ellipse_on_tip/scene_lps.json": TUNNEL,
+    # the apex node of the fixed tip passes the ring's surface layer (0.44 mm deep, R_c
+    # 0.125 mm); ring nodes 0.6-0.8 mm inside the fixed tip
+    "ellipse_on_tip/scene_lps.json": TUNNEL + "; LPS after fracture: elastic energy -0.24 J, "
+                                     "KE 0.211 -> 0.344 J, a node at 42 m/s",
     "ellipse_on_tip/scene_pmb.json": TUNNEL,
 }
 
