@@ -316,6 +316,13 @@ def precracked_lps_plate():
             "solver": {"final_time": 1.2e-4, "output_interval": 1.2e-5}}
 
 
+def precracked_pmb_plate():
+    """The pre-cracked plate of precracked_lps_plate() as a PMB solid (nu = 1/3)."""
+    s = precracked_lps_plate()
+    s["materials"]["m"] = dict(M1_PMB, fracture_energy=5)
+    return s
+
+
 _ESTIMATES = {}
 
 
@@ -337,14 +344,16 @@ def estimate(tmp_path, name, scene):
 # breaks a check must stop with exit 3; far above it (the issue's factors) it must stop.
 DT_SWEEP = [("pmb_notched", notched_pmb_plate, 0.25, 0),
             ("pmb_notched", notched_pmb_plate, 1.0, 0),
-            ("pmb_notched", notched_pmb_plate, 1.6, None),
-            ("pmb_notched", notched_pmb_plate, 2.6, 3),
-            ("lps_precracked", precracked_lps_plate, 0.25, 0),
-            ("lps_precracked", precracked_lps_plate, 1.0, 0),
-            ("lps_precracked", precracked_lps_plate, 1.6, None),
-            ("lps_precracked", precracked_lps_plate, 2.0, 3),
-            ("lps_precracked", precracked_lps_plate, 2.5, 3)]
+            ("pmb_notched", notched_pmb_plate, 2.6, 3)] + \
+           [("pmb_precracked", precracked_pmb_plate, f, e)
+            for f, e in ((0.25, 0), (1.0, 0), (1.6, None), (2.6, 3))] + \
+           [("lps_precracked", precracked_lps_plate, f, e)
+            for f, e in ((0.25, 0), (1.0, 0), (1.3, None), (1.6, None), (2.0, 3), (2.5, 3))]
 DT_XFAIL = {
+    # measured: 21 746 broken bonds against 2 471 at 0.25x and 2 430 at 1x, KE 1.87 J against
+    # 0.38 J, nodes above the speed bound: exit 0 (the issue: 18 260 against ~1 900)
+    ("pmb_precracked", 2.6): "dt above the stability estimate: the plate shatters and "
+                             "creates energy, and the 100x energy guard does not fire (exit 0)",
     # measured: 20 595 broken bonds against 2 201 at 0.25x and 1 788 at 1x, KE up to 2.2 J
     # against 0.38 J, elastic energy < 0, a node at 5x the speed bound: exit 0
     ("lps_precracked", 1.6): "LPS after fracture above the stability estimate: the plate "
