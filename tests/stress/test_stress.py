@@ -99,7 +99,7 @@ def run_case(tmp_path, report, name, scene, args, expect_exit=0):
 # above pdgrain's contact estimate, as their READMEs say).
 EXAMPLE_RUNS = {
     "attrition_sim1/scene.json": 2e-5,
-    "attrition_sim2/scene.json": 3e-5,
+    "attrition_sim2/scene.json": 2e-5,
     "circ_damp/scene.json": 1e-3,
     "circ_damp_diff_radius/scene.json": 1e-3,
     "circ_diff_material/scene.json": 5e-4,
