@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Every examples/<case>/scene.json packs (exit 0) and has a README.md; the preview draws a
+"""Every examples/<case>/scene*.json packs (exit 0) and has a README.md; the preview draws a
 non-empty PNG (workflows/preview/preview.py directly and through pd-pack --preview)."""
 
 import subprocess
@@ -9,12 +9,12 @@ import pytest
 
 from conftest import REPO, run
 
-EXAMPLES = sorted(REPO.glob("examples/*/scene.json"))
+EXAMPLES = sorted(REPO.glob("examples/*/scene*.json"))
 PREVIEW = REPO / "workflows" / "preview" / "preview.py"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
-@pytest.mark.parametrize("scene", EXAMPLES, ids=[p.parent.name for p in EXAMPLES])
+@pytest.mark.parametrize("scene", EXAMPLES, ids=[p.parent.name + p.stem[5:] for p in EXAMPLES])
 def test_example_packs(pd_pack, tmp_path, scene):
     assert (scene.parent / "README.md").is_file()
     out = tmp_path / "out.h5"

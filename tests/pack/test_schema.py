@@ -13,7 +13,7 @@ from conftest import REPO, run
 
 SCHEMA = REPO / "data-schema" / "scene.schema.json"
 SCENE_CPP = REPO / "lib" / "pipeline" / "scene.cpp"
-EXAMPLES = sorted(REPO.glob("examples/*/scene.json"))
+EXAMPLES = sorted(REPO.glob("examples/*/scene*.json"))
 
 
 def strip_comments(text):
@@ -55,7 +55,7 @@ def test_schema_is_valid_draft_2020_12(schema):
     jsonschema.Draft202012Validator.check_schema(schema)
 
 
-@pytest.mark.parametrize("scene", EXAMPLES, ids=[p.parent.name for p in EXAMPLES])
+@pytest.mark.parametrize("scene", EXAMPLES, ids=[p.parent.name + p.stem[5:] for p in EXAMPLES])
 def test_examples_validate(schema, scene):
     jsonschema = pytest.importorskip("jsonschema")
     errors = sorted(jsonschema.Draft202012Validator(schema).iter_errors(load_scene(scene)),
