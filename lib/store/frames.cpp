@@ -209,6 +209,7 @@ void ObservableWriter::flush() {
         if (nr > 0) {
             f_.write<std::int32_t>(O + "/body_force/body", bodies_, {nr});
             f_.set_attr(O + "/body_force/body", "unit", "1");
+            raise_version(f_); // pd-file 1.2.0 objects
             f_.hard_link(O + "/body_force/body", O + "/body_moment/body");
         }
     }

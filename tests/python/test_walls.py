@@ -108,3 +108,19 @@ def test_meshed_wall_missing_observable_is_a_clear_error(tmp_path_factory, bin_d
         del f["observables/body_moment"]
     r = run(bin_dir / "pd-post", bad, "-o", tmp_path / "out", "--no-vtu")
     assert r.returncode == 2 and "body_moment" in r.stderr and "missing" in r.stderr, r.stderr
+
+
+def test_solving_an_older_file_raises_its_version(bin_dir, tmp_path):
+    """pd-solve adds pd-file 1.2.0 objects (body_force) to a 1.1.0 file: it raises the version."""
+    from post_helpers import MESHED_FLOOR
+    (tmp_path / "scene.json").write_text(MESHED_FLOOR)
+    h5 = tmp_path / "old.h5"
+    assert run(bin_dir / "pd-pack", tmp_path / "scene.json", "-o", h5, "-q").returncode == 0
+    with h5py.File(h5, "a") as f:
+        f.attrs["schema_version"] = "1.1.0"
+    r = run(bin_dir / "pd-solve", h5, "-q", "--final-time", "1e-5")
+    assert r.returncode == 0, r.stderr
+    with h5py.File(h5, "r") as f:
+        v = f.attrs["schema_version"]
+        assert (v.decode() if isinstance(v, bytes) else v) == "1.2.0"
+        assert list(f["observables/body_force/body"][()]) == [0, 2]
