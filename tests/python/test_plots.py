@@ -46,7 +46,7 @@ def test_meshed_wall_reaction_plot(tmp_path_factory, bin_dir, tmp_path):
         out.unlink()
     # A body without reactions, a rigid wall the file does not have, a fixed body without an
     # axis: a message and exit 2, no traceback.
-    for args, words in ((["--body", "1"], "bodies 0, 2 only"), (["--wall", "0"], "wall_force"),
+    for args, words in ((["--body", "1"], "bodies 0, 2 only"), (["--wall", "0"], "no rigid walls"),
                         (["--body", "0"], "give --axis")):
         r = subprocess.run([sys.executable, str(ANALYSIS / "plot_wall_reaction.py"), str(h5),
                             *args], cwd=tmp_path, capture_output=True, text=True, timeout=120)

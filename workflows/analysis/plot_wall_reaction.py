@@ -35,6 +35,8 @@ def fail(msg):
 
 def rigid_wall(f, k):
     """(time, reaction along -normal, penetration, label) of rigid wall k."""
+    if "walls" not in f:
+        fail("%s: no rigid walls (/walls); a meshed wall is --body B" % f.filename)
     if "observables/wall_force" not in f:
         fail("%s: no /observables/wall_force (run pd-solve first)" % f.filename)
     force_all = f["observables/wall_force/value"]
