@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Time functions T(t) of conditions and wall motions (spec 5.6-5.7): value and rate dT/dt.
+// Time functions T(t) of conditions and wall motions (spec 5.6-5.7): value and rate dT/dt;
+// space functions S(X) of conditions; the displacement a condition prescribes.
 // p = {p0 (space), p1, p2, p3}: the time functions use p1..p3.
 #pragma once
 
 #include "model/model.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -45,6 +47,52 @@ inline double time_function(TimeFn f, const std::array<double, 4>& p, double t, 
         return *rate * t;
     }
     return 0;
+}
+
+/// S(X) of a condition's space function at reference position X; `box` = x and y range of the
+/// condition's nodes (the hat functions).
+inline double space_value(SpaceFn f, double p0, const double* X, const std::array<double, 4>& box) {
+    auto hat = [&](double x, double lo, double hi) {
+        const double L = hi - lo;
+        return L > 0 ? p0 * std::max(0.0, 1 - std::abs(2 * (x - 0.5 * (lo + hi)) / L)) : p0;
+    };
+    switch (f) {
+    case SpaceFn::constant:
+        return 1;
+    case SpaceFn::linear_x:
+        return p0 * X[0];
+    case SpaceFn::linear_y:
+        return p0 * X[1];
+    case SpaceFn::sine_x:
+        return std::sin(M_PI * p0 * X[0]);
+    case SpaceFn::hat_x:
+        return hat(X[0], box[0], box[1]);
+    case SpaceFn::hat_y:
+        return hat(X[1], box[2], box[3]);
+    }
+    return 0;
+}
+
+/// Adds to u (3) the displacement that condition c (not a force) prescribes at time t on a node
+/// of reference position X, for the components it prescribes (spec 5.6; a rotation in the xy
+/// plane about c.centre).
+inline void prescribed_displacement(const NodeCondition& c, const double* X,
+                                    const std::array<double, 4>& box, double t, double* u) {
+    if (c.time_fn == TimeFn::rotation) {
+        const double th = c.amplitude * t, cs = std::cos(th), sn = std::sin(th);
+        const double rx = X[0] - c.centre[0], ry = X[1] - c.centre[1];
+        const double d[2] = {cs * rx - sn * ry - rx, sn * rx + cs * ry - ry};
+        for (std::size_t k = 0; k < 2; ++k)
+            if (c.dofs & (1u << k))
+                u[k] = d[k];
+        return;
+    }
+    double rate = 0;
+    const double T = time_function(c.time_fn, c.params, t, &rate);
+    const double S = space_value(c.space_fn, c.params[0], X, box);
+    for (std::size_t k = 0; k < 3; ++k)
+        if (c.dofs & (1u << k))
+            u[k] = c.amplitude * T * S;
 }
 
 } // namespace pd::model

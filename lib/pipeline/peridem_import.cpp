@@ -602,7 +602,7 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
         }
         discretization["mesh_size"] = 0.0; // filled below
         if (by_ratio)
-            discretization["horizon_factor"] = ratio[0];
+            discretization["horizon_mesh_ratio"] = ratio[0]; // x each particle's h (spec 2.3)
         else
             discretization["horizon"] = horizon[0];
         discretization["bond_cutoff"] = "strict";

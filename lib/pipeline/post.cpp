@@ -12,6 +12,7 @@
 #include "post/vtk_export.hpp"
 #include "post/walls.hpp"
 #include "post/xdmf.hpp"
+#include "store/frames.hpp"
 #include "store/model_io.hpp"
 #include "store/provenance.hpp"
 #include "store/schema.hpp"
@@ -137,13 +138,15 @@ void post(const PostOptions& opt, Context& ctx) {
             const auto n = post::write_grains_csv(f, model, csv.string(), progress);
             made.push_back(fmt::format("{} grain row(s) -> {}", n, csv.string()));
         }
-        if (opt.walls && has_obs && !model.walls.empty()) {
+        const bool meshed_walls = !store::read_reaction_bodies(f).empty();
+        if (opt.walls && has_obs && (!model.walls.empty() || meshed_walls)) {
             const auto csv = out_dir / "walls.csv";
             const auto n = post::write_walls_csv(f, model, csv.string(), opt.wall_length);
             made.push_back(fmt::format("{} wall row(s) -> {}", n, csv.string()));
         } else if (opt.wall_length > 0 && model.walls.empty()) {
-            ctx.log.warn("{}: --wall-length given but the file has no rigid walls ({})", opt.file,
-                         store::path::walls);
+            ctx.log.warn("{}: --wall-length given but the file has no rigid walls ({}) and no "
+                         "fixed or driven body reactions",
+                         opt.file, store::path::walls);
         }
         if (crack && has_frames) {
             const auto csv = out_dir / "crack.csv";

@@ -377,6 +377,46 @@ void check_overlaps(const model::Model& m, const std::vector<Instance>& inst,
     }
 }
 
+/// Prints each group's horizon and smallest node spacing (min-max over its grains) and each
+/// contact law's stiffness and radius; warns when the horizons of groups that can touch (a law
+/// with Kn > 0 between them, or a group with itself) differ by more than 20 %: the contact
+/// stiffness (~ delta^-(d+2)) and the bond response then differ between them.
+void report_horizons(const model::Model& m, const Log& log) {
+    const auto& B = m.bodies;
+    struct Range {
+        std::size_t n = 0;
+        double dmin = 1e300, dmax = 0, hmin = 1e300, hmax = 0;
+    };
+    std::map<std::int32_t, Range> by_group;
+    for (std::size_t b = 0; b < B.num(); ++b) {
+        auto& r = by_group[B.group[b]];
+        ++r.n;
+        r.dmin = std::min(r.dmin, B.horizon[b]);
+        r.dmax = std::max(r.dmax, B.horizon[b]);
+        r.hmin = std::min(r.hmin, B.mesh_size[b]);
+        r.hmax = std::max(r.hmax, B.mesh_size[b]);
+    }
+    for (const auto& [g, r] : by_group)
+        log.info("group {}: {} grains, horizon {:.4g}-{:.4g} m, smallest node spacing "
+                 "{:.4g}-{:.4g} m",
+                 g, r.n, r.dmin, r.dmax, r.hmin, r.hmax);
+    for (const auto& p : m.contact) {
+        const auto a = by_group.find(p.group_a), b = by_group.find(p.group_b);
+        log.info("contact groups {}-{}: stiffness Kn {:.4g}, radius R_c {:.4g} m", p.group_a,
+                 p.group_b, p.stiffness, p.radius);
+        if (!(p.stiffness > 0) || a == by_group.end() || b == by_group.end())
+            continue; // no contact, or a rigid wall (no horizon)
+        const double lo = std::min(a->second.dmin, b->second.dmin);
+        const double hi = std::max(a->second.dmax, b->second.dmax);
+        if (hi > 1.2 * lo)
+            log.warn(
+                "contact groups {}-{}: horizons range over {:.4g}-{:.4g} m ({:+.0f} %): "
+                "grains that touch have different contact stiffness (~ delta^-{}) and bond "
+                "response (use horizon, or horizon_factor with one mesh_size for their shapes)",
+                p.group_a, p.group_b, lo, hi, 100.0 * (hi - lo) / lo, m.dimension + 2);
+    }
+}
+
 } // namespace
 
 model::Model build_scene(const std::string& source_text, const std::string& source,
@@ -495,16 +535,29 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     if (!root.contains("discretization"))
         throw ConfigError("discretization", "missing: give mesh_size and horizon");
     const json& dz = root["discretization"];
-    check_keys(dz, "discretization", {"mesh_size", "horizon", "horizon_factor", "bond_cutoff"});
+    check_keys(dz, "discretization",
+               {"mesh_size", "horizon", "horizon_factor", "horizon_mesh_ratio", "bond_cutoff"});
     const bool partial_cutoff =
         text(dz, "discretization", "bond_cutoff", "partial", {"partial", "strict"}) == "partial";
     const double h_ref = positive(dz, "discretization", "mesh_size", 0, true);
-    const bool has_h = dz.contains("horizon"), has_m = dz.contains("horizon_factor");
-    if (has_h == has_m)
-        throw ConfigError("discretization", "give exactly one of horizon (m) or horizon_factor "
-                                            "(multiple of mesh_size)");
+    // Horizon (spec 2.3): absolute; horizon_factor x the nominal mesh size (the shape's
+    // mesh_size, else the scene's: the same for every grain of a shape, whatever its scale and
+    // its mesh's smallest spacing); or horizon_mesh_ratio x each grain's smallest node spacing
+    // (PeriDEM's Horizon_Mesh_Ratio, for --from-peridem parity).
+    const bool has_h = dz.contains("horizon"), has_m = dz.contains("horizon_factor"),
+               has_r = dz.contains("horizon_mesh_ratio");
+    if (int(has_h) + int(has_m) + int(has_r) != 1)
+        throw ConfigError("discretization",
+                          "give exactly one of horizon (m), horizon_factor (multiple of "
+                          "mesh_size) or horizon_mesh_ratio (multiple of each grain's smallest "
+                          "node spacing)");
+    const std::string horizon_key = has_h   ? "discretization.horizon"
+                                    : has_m ? "discretization.horizon_factor"
+                                            : "discretization.horizon_mesh_ratio";
     const double horizon_abs = has_h ? positive(dz, "discretization", "horizon", 0) : 0;
-    const double horizon_factor = has_m ? positive(dz, "discretization", "horizon_factor", 0) : 0;
+    const double horizon_factor = has_m   ? positive(dz, "discretization", "horizon_factor", 0)
+                                  : has_r ? positive(dz, "discretization", "horizon_mesh_ratio", 0)
+                                          : 0;
 
     // Reference shapes: named in "shapes", or the implicit "disc" (a circle whose radius is the
     // first disc particle's).
@@ -747,9 +800,13 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
         B.scale.push_back(s);
         B.initial_velocity.insert(B.initial_velocity.end(), d.velocity.begin(), d.velocity.end());
         const double h = r.h * s;
-        const double delta = has_h ? horizon_abs : horizon_factor * h;
+        const auto& spec = shapes.at(d.shape);
+        const double h_nominal = spec.mesh_size > 0 ? spec.mesh_size : h_ref;
+        const double delta = has_h   ? horizon_abs
+                             : has_m ? horizon_factor * h_nominal
+                                     : horizon_factor * h;
         if (delta < 2.0 * h)
-            throw ConfigError(has_h ? "discretization.horizon" : "discretization.horizon_factor",
+            throw ConfigError(horizon_key,
                               fmt::format("{}: horizon {:.4g} m is less than 2 x its mesh "
                                           "spacing h = {:.4g} m (too coarse: refine mesh_size "
                                           "or enlarge the horizon)",
@@ -937,6 +994,8 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                                   fmt::format("no particle or wall is in group {} or {}", ga, gb));
         }
     }
+
+    report_horizons(m, log);
 
     // Grains that start within the contact radius of a wall are pushed off at t = 0.
     for (std::size_t k = 0; k < m.walls.size(); ++k) {

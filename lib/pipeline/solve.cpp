@@ -83,6 +83,8 @@ std::vector<double> observable_row(const solver::Observables& o) {
                           o.gravity_potential};
     r.insert(r.end(), o.wall_force.begin(), o.wall_force.end());
     r.insert(r.end(), o.wall_moment.begin(), o.wall_moment.end());
+    r.insert(r.end(), o.body_force.begin(), o.body_force.end());
+    r.insert(r.end(), o.body_moment.begin(), o.body_moment.end());
     return r;
 }
 
@@ -333,7 +335,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         store::FrameWriter frames(*f, m.nodes.num(), m.solver.fields, opt.compress);
         if (par)
             frames.set_runs(s.domain().runs());
-        store::ObservableWriter obs(*f, s.num_walls());
+        store::ObservableWriter obs(*f, s.num_walls(), s.reaction_bodies());
         if (first == 0) {
             s.initialize();
             if (s.precracked() > 0)

@@ -13,33 +13,13 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <tuple>
 
 namespace pd::solver {
 
 namespace {
 
-/// `box`: xmin, xmax, ymin, ymax of the condition's nodes (hat functions).
-double space_value(model::SpaceFn f, double p0, const double* X, const std::array<double, 4>& box) {
-    auto hat = [&](double x, double lo, double hi) {
-        const double L = hi - lo;
-        return L > 0 ? p0 * std::max(0.0, 1 - std::abs(2 * (x - 0.5 * (lo + hi)) / L)) : p0;
-    };
-    switch (f) {
-    case model::SpaceFn::constant:
-        return 1;
-    case model::SpaceFn::linear_x:
-        return p0 * X[0];
-    case model::SpaceFn::linear_y:
-        return p0 * X[1];
-    case model::SpaceFn::sine_x:
-        return std::sin(M_PI * p0 * X[0]);
-    case model::SpaceFn::hat_x:
-        return hat(X[0], box[0], box[1]);
-    case model::SpaceFn::hat_y:
-        return hat(X[1], box[2], box[3]);
-    }
-    return 0;
-}
+using model::space_value; // `box`: xmin, xmax, ymin, ymax of the condition's nodes
 
 /// The rows `rows` of a whole bond-list array (CSR `whole`), concatenated: this rank's CSR.
 template <class T>
@@ -83,7 +63,8 @@ bool segments_cross(const double* a, const double* b, const double* c, const dou
 Solver::Solver(const model::Model& m, Domain* dom, std::vector<index_t> row_neighbors)
     : m_(m)
     , dom_(dom)
-    , row_neighbors_(std::move(row_neighbors)) {
+    , row_neighbors_(std::move(row_neighbors))
+    , reactions_(m) {
     const std::size_t n = m.nodes.num(), nb = m.bodies.num();
     if (!dom_) {
         serial_ = std::make_unique<Domain>(n);
@@ -317,6 +298,7 @@ void Solver::compute_forces() {
             exposed_at_ = broken_total_;
         }
     }
+    reactions_.before(s_);
     if (contact_->active()) {
         {
             ScopedTimer t(timers_, t_search_);
@@ -351,6 +333,7 @@ void Solver::compute_forces() {
         ScopedTimer t(timers_, t_damping_);
         apply_friction();
     }
+    reactions_.after(s_);
     if (!fbc_.empty())
         std::fill(fbc_.begin(), fbc_.end(), 0.0);
     for (const auto& c : m_.loading.conditions) {
@@ -525,6 +508,14 @@ void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
                 acb[static_cast<std::size_t>(d)] += Fd[d] / body_mass_[static_cast<std::size_t>(b)];
                 aca[static_cast<std::size_t>(d)] -= Fd[d] / body_mass_[static_cast<std::size_t>(a)];
             }
+            // A meshed wall's reaction: the damping share acts through the other grain's centre
+            // (as for rigid walls).
+            const double Fa[3] = {-Fd[0], -Fd[1], -Fd[2]};
+            for (auto [r, other, Fr] : {std::tuple{a, b, Fa}, std::tuple{b, a, Fd}})
+                if (reactions_.records(r) &&
+                    dom_->owns(m_.bodies.begin(static_cast<std::size_t>(r))))
+                    reactions_.add_damping(r, Fr, &com_of(other)[3], &com_of(r)[3],
+                                           m_.bodies.fixed[static_cast<std::size_t>(r)] != 0);
         }
     }
     for (const auto& [b, acc] : accel) {
@@ -936,6 +927,7 @@ std::vector<std::uint8_t> Solver::global_alive() const {
 void Solver::take_rows() {
     s_.rows = dom_->rows();
     contact_->set_owned(*dom_);
+    reactions_.set_rows(s_);
 }
 
 void Solver::set_bond_ghosts() {
@@ -1143,6 +1135,7 @@ Observables Solver::observe() const {
         std::copy(all.begin() + first + nw, all.end(), o.wall_moment.begin());
     }
     o.broken_bonds /= 2;
+    reactions_.result(*dom_, o.body_force, o.body_moment);
     return o;
 }
 

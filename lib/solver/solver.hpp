@@ -7,6 +7,7 @@
 #include "model/model.hpp"
 #include "solver/contact.hpp"
 #include "solver/domain.hpp"
+#include "solver/reactions.hpp"
 #include "solver/state.hpp"
 #include "solver/walls.hpp"
 
@@ -45,6 +46,10 @@ struct Observables {
     std::int64_t broken_bonds = 0;   ///< broken bonds (pairs)
     std::vector<double> wall_force;  ///< 3 per wall, N, received by the wall
     std::vector<double> wall_moment; ///< 3 per wall, N m, about its rotation centre
+    /// Contact reactions of the fixed or driven meshed bodies (Solver::reaction_bodies()):
+    /// 3 per body, N, and moment about its centroid, N m.
+    std::vector<double> body_force;
+    std::vector<double> body_moment;
 };
 
 class Solver {
@@ -100,6 +105,9 @@ class Solver {
     const ContactList& contact() const { return *contact_; }
     const WallContact& walls() const { return *walls_; }
     std::size_t num_walls() const { return walls_->num_walls(); }
+    /// The meshed bodies whose contact reaction observe() reports (fixed, or driven whole by
+    /// displacement conditions), ascending.
+    const std::vector<std::int32_t>& reaction_bodies() const { return reactions_.bodies(); }
     /// Broken bonds counted from both ends, over all ranks (collective).
     std::int64_t broken_total() const { return dom_->sum(broken_total_); }
     const Domain& domain() const { return *dom_; }
@@ -174,6 +182,7 @@ class Solver {
     std::unique_ptr<ContactList> contact_;
     std::unique_ptr<WallContact> walls_;
     WallLoad wall_load_;
+    BodyReactions reactions_;
     bool damping_ = false;  ///< some contact law has restitution < 1
     bool friction_ = false; ///< some contact law has mu > 0
     bool records_ = false;  ///< damping or friction need the touching-pair records

@@ -168,9 +168,11 @@ std::vector<double> FrameReader::read(const std::string& field, std::size_t k) c
     return v;
 }
 
-ObservableWriter::ObservableWriter(h5::File& f, std::size_t num_walls)
+ObservableWriter::ObservableWriter(h5::File& f, std::size_t num_walls,
+                                   std::vector<std::int32_t> bodies)
     : f_(f)
-    , walls_(num_walls) {}
+    , walls_(num_walls)
+    , bodies_(std::move(bodies)) {}
 
 void ObservableWriter::add(std::int64_t step, double time, std::span<const double> values) {
     steps_.push_back(step);
@@ -194,6 +196,11 @@ void ObservableWriter::flush() {
         cols.push_back({"wall_force", {walls_, 3}, "N", 3 * walls_});
         cols.push_back({"wall_moment", {walls_, 3}, "N m", 3 * walls_});
     }
+    const std::size_t nr = bodies_.size();
+    if (nr > 0) {
+        cols.push_back({"body_force", {nr, 3}, "N", 3 * nr});
+        cols.push_back({"body_moment", {nr, 3}, "N m", 3 * nr});
+    }
     const std::string first = O + "/" + cols.front().name;
     if (!f_.exists(first + "/value")) {
         f_.create_extendible<std::int64_t>(first + "/step", {}, 4096);
@@ -208,6 +215,12 @@ void ObservableWriter::flush() {
                 f_.hard_link(first + "/step", g + "/step");
                 f_.hard_link(first + "/time", g + "/time");
             }
+        }
+        if (nr > 0) {
+            f_.write<std::int32_t>(O + "/body_force/body", bodies_, {nr});
+            f_.set_attr(O + "/body_force/body", "unit", "1");
+            raise_version(f_); // pd-file 1.2.0 objects
+            f_.hard_link(O + "/body_force/body", O + "/body_moment/body");
         }
     }
     // A series this pd-solve records that a file from an older one lacks (a restart): created
@@ -278,6 +291,13 @@ std::map<std::string, Series> read_observables(const h5::File& f) {
     return out;
 }
 
+std::vector<std::int32_t> read_reaction_bodies(const h5::File& f) {
+    const std::string p = O + "/body_force/body";
+    if (!f.exists(p))
+        return {};
+    return f.read<std::int32_t>(p);
+}
+
 void truncate_after(h5::File& f, std::int64_t step) {
     auto cut = [&](const std::string& owner, const std::vector<std::string>& values) {
         if (!f.exists(owner + "/step"))
@@ -302,6 +322,8 @@ void truncate_after(h5::File& f, std::int64_t step) {
         ov.push_back(O + "/" + o.name + "/value");
     ov.push_back(O + "/wall_force/value");
     ov.push_back(O + "/wall_moment/value");
+    ov.push_back(O + "/body_force/value");
+    ov.push_back(O + "/body_moment/value");
     cut(O + "/" + observable_list().front().name, ov);
 }
 

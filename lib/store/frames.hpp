@@ -93,12 +93,17 @@ struct ObservableInfo {
 const std::vector<ObservableInfo>& observable_list();
 
 /// Buffers observable rows in memory and appends them to /observables on flush(). With walls,
-/// also `wall_force` and `wall_moment`, value (rows, num_walls, 3) in N and N m.
+/// also `wall_force` and `wall_moment`, value (rows, num_walls, 3) in N and N m. With
+/// `bodies` (the fixed or driven meshed bodies), also `body_force` and `body_moment`, value
+/// (rows, bodies, 3) in N and N m, and `body_force/body` (the body ids, linked as
+/// `body_moment/body`).
 class ObservableWriter {
   public:
-    explicit ObservableWriter(h5::File& f, std::size_t num_walls = 0);
+    explicit ObservableWriter(h5::File& f, std::size_t num_walls = 0,
+                              std::vector<std::int32_t> bodies = {});
     /// Adds one row; `values` holds, for each entry of observable_list() in order, its
-    /// components, then 3 * num_walls wall forces, then 3 * num_walls wall moments.
+    /// components, then 3 * num_walls wall forces, then 3 * num_walls wall moments, then
+    /// 3 * bodies.size() body forces, then as many body moments.
     void add(std::int64_t step, double time, std::span<const double> values);
     void flush();
     std::size_t buffered() const { return steps_.size(); }
@@ -106,6 +111,7 @@ class ObservableWriter {
   private:
     h5::File& f_;
     std::size_t walls_;
+    std::vector<std::int32_t> bodies_;
     std::vector<std::int64_t> steps_;
     std::vector<double> times_;
     std::vector<double> values_;
@@ -113,6 +119,10 @@ class ObservableWriter {
 
 /// All series under /observables.
 std::map<std::string, Series> read_observables(const h5::File& f);
+
+/// The bodies of the `body_force` and `body_moment` series (their order), or empty when the file
+/// has none (no fixed or driven body, or written before pd-file 1.2.0).
+std::vector<std::int32_t> read_reaction_bodies(const h5::File& f);
 
 /// Writes the time-independent H5MD elements species (= body id) and mass (kg) of each node.
 void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& species,

@@ -5,6 +5,7 @@
 #include "h5/file.hpp"
 
 #include <cstdio>
+#include <tuple>
 
 namespace pd::store {
 
@@ -27,6 +28,17 @@ void check_version(const h5::File& f) {
         throw SchemaError(
             f.name(), "/",
             fmt::format("pd-file {} is older than {}.x and not readable", v, schema_major));
+}
+
+void raise_version(h5::File& f) {
+    int v[3] = {0, 0, 0};
+    const std::string s =
+        f.has_attr("/", "schema_version") ? f.attr_string("/", "schema_version") : std::string();
+    if (std::sscanf(s.c_str(), "%d.%d.%d", &v[0], &v[1], &v[2]) == 3 &&
+        std::make_tuple(v[0], v[1], v[2]) >=
+            std::make_tuple(schema_major, schema_minor, schema_patch))
+        return;
+    f.set_attr("/", "schema_version", std::string(schema_version));
 }
 
 } // namespace pd::store

@@ -14,7 +14,7 @@ namespace pd::store {
 
 inline constexpr const char* schema_name = "pd-file";
 inline constexpr int schema_major = 1;
-inline constexpr int schema_minor = 0;
+inline constexpr int schema_minor = 2;
 inline constexpr int schema_patch = 0;
 inline constexpr const char* schema_version = "1.2.0";
 
@@ -42,5 +42,8 @@ inline constexpr const char* checkpoints = "/checkpoints";
 /// Throws SchemaError unless `f` is a pd-file whose major version this build reads
 /// (a newer major version is refused with a message naming both versions).
 void check_version(const h5::File& f);
+/// Raises /@schema_version to this build's when the file's is older (a tool that adds objects of
+/// a newer MINOR version to an existing file); never lowers it.
+void raise_version(h5::File& f);
 
 } // namespace pd::store

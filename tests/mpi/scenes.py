@@ -60,9 +60,31 @@ PLATE = {  # one LPS plate with a pre-crack, pulled apart: bonds (and breaking) 
 
 # Partition method per rank count: whole grains where there are enough, else nodes (the two
 # discs on 4 ranks are split in halves, so bonds cross ranks there too).
+MESHED_WALLS = {  # three discs between a fixed meshed floor and a driven meshed plate
+    "dimension": 2,
+    "materials": {"m": {"law": "lps", "density": 1200, "youngs_modulus": 3.24e7,
+                        "poisson_ratio": 0.25, "fracture_energy": 50}},
+    "discretization": {"mesh_size": 2.5e-4, "horizon_factor": 3},
+    "shapes": {"slab": {"type": "rectangle", "corners": [[-4e-3, -0.75e-3], [4e-3, 0]]}},
+    "particles": [
+        {"shape": "slab", "center": [0, 0], "material": "m", "fixed": True, "group": 1},
+        {"shape": "disc", "radius": 1e-3, "center": [-2.2e-3, 1.2e-3], "material": "m"},
+        {"shape": "disc", "radius": 1e-3, "center": [0, 1.2e-3], "material": "m"},
+        {"shape": "disc", "radius": 1e-3, "center": [2.2e-3, 1.2e-3], "material": "m"},
+        {"shape": "slab", "center": [0.3e-3, 3.1e-3], "material": "m", "group": 2}],
+    "contact": {"restitution": 0.8, "friction": 0.3},
+    "loading": {"gravity": [0, -10], "conditions": [
+        {"name": "down", "kind": "displacement", "particles": [4], "components": ["y"],
+         "time_function": "linear", "value": -2.0},
+        {"name": "still", "kind": "displacement", "particles": [4], "components": ["x"],
+         "value": 0}]},
+    "solver": {"final_time": 3e-4, "output_interval": 5e-5, "fields": ["velocity", "force"]},
+}
+
 SCENES = {"two_discs": (TWO_DISCS, {2: "grain", 4: "node"}),
           "pack50": (PACK50, {2: "grain", 4: "grain"}),
-          "plate": (PLATE, {2: "node", 4: "node"})}
+          "plate": (PLATE, {2: "node", 4: "node"}),
+          "meshed_walls": (MESHED_WALLS, {2: "grain", 4: "grain"})}
 
 
 def write(scene, path):

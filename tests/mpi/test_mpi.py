@@ -109,6 +109,24 @@ def test_same_answers_at_1_2_4_ranks(tmp_path, name):
         assert frames <= TOL and obs <= TOL and damage
 
 
+def test_meshed_wall_reactions_same_at_1_and_2_ranks(tmp_path):
+    """The fixed floor (body 0) and the driven plate (body 4) record their contact reactions;
+    summed over 2 ranks (grains split between them) they equal the 1-rank ones."""
+    base, by = pack(tmp_path, "meshed_walls")
+    ref = run(tmp_path, base, by, 1)
+    two = run(tmp_path, base, by, 2)
+    with h5py.File(ref, "r") as a, h5py.File(two, "r") as b:
+        assert list(a["observables/body_force/body"][()]) == [0, 4]
+        fa, fb = a["observables/body_force/value"][()], b["observables/body_force/value"][()]
+        ma, mb = a["observables/body_moment/value"][()], b["observables/body_moment/value"][()]
+        owners = set(b["partition/owner"][()])
+    assert fa[:, 1, 1].max() > 0  # the discs push the plate up ...
+    assert fa[:, 0, 1].min() < 0  # ... and the floor down
+    assert len(owners) == 2
+    assert np.abs(fa - fb).max() <= TOL * np.abs(fa).max()
+    assert np.abs(ma - mb).max() <= TOL * np.abs(ma).max()
+
+
 def test_sigkill_then_restart_on_1_and_4_ranks(tmp_path):
     base, by = pack(tmp_path, "pack50")
     ref = run(tmp_path, base, by, 1)

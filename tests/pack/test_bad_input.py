@@ -43,8 +43,14 @@ CASES = {
                            ["particles[0], particles[1]", "overlap"]),
     "grain crossing a wall": (setp(["particles", 0, "center"], [0, 0.5e-3]),
                               ["particles[0], walls[0]", "crosses the wall"]),
-    "horizon below 2 h": (setp(["discretization", "horizon_factor"], 1.5),
+    # horizon_factor x mesh_size against 2 x the grain's smallest node spacing (~0.7 mesh_size
+    # for a disc): 1.0 is too small, 1.5 is not.
+    "horizon below 2 h": (setp(["discretization", "horizon_factor"], 1.0),
                           ["discretization.horizon_factor", "less than 2 x"]),
+    "horizon ratio below 2 h": (
+        lambda s: s["discretization"].update({"horizon_mesh_ratio": 1.9}) or
+        s["discretization"].pop("horizon_factor"),
+        ["discretization.horizon_mesh_ratio", "less than 2 x"]),
     "absolute horizon below 2 h": (
         lambda s: s["discretization"].update({"horizon": 3e-4}) or
         s["discretization"].pop("horizon_factor"), ["discretization.horizon"]),

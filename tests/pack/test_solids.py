@@ -231,12 +231,13 @@ def test_surface_mesh_needs_gmsh_or_grid(pd_pack, tmp_path):
 
 def test_sparse_bond_families_are_warned_about(pd_pack, tmp_path):
     """The example's gem (sharp STL tips: smallest spacing 0.087 mm at h = 0.25 mm) with
-    horizon = 3 x smallest spacing has a median of 8 bonds per node: pd-pack warns; with the
-    absolute horizon of the example it does not."""
+    horizon = 3 x smallest spacing (horizon_mesh_ratio) has a median of 8 bonds per node: pd-pack
+    warns; with the absolute horizon of the example, or horizon_factor 3 (3 x mesh_size, the
+    same 0.75 mm), it does not."""
     src = os.path.join(os.environ.get("PD_SOURCE_DIR", "."), "examples", "three_d_csg")
     shutil.copy(os.path.join(src, "gem.stl"), tmp_path / "gem.stl")
     sc = {"dimension": 3, "materials": MAT,
-          "discretization": {"mesh_size": 2.5e-4, "horizon_factor": 3},
+          "discretization": {"mesh_size": 2.5e-4, "horizon_mesh_ratio": 3},
           "shapes": {"gem": {"type": "surface_mesh", "file": "gem.stl", "centered": True}},
           "particles": [{"shape": "gem", "center": [0, 0, 0], "material": "m1"}],
           "solver": {"final_time": 1e-4}}
@@ -244,7 +245,8 @@ def test_sparse_bond_families_are_warned_about(pd_pack, tmp_path):
     path.write_text(json.dumps(sc))
     r = run(pd_pack, path, "-o", tmp_path / "a.h5")
     assert r.returncode == 0 and "median of 8 bonds per node" in r.stderr, r.stderr
-    sc["discretization"] = {"mesh_size": 2.5e-4, "horizon": 7.5e-4}
-    path.write_text(json.dumps(sc))
-    r = run(pd_pack, path, "-o", tmp_path / "b.h5")
-    assert r.returncode == 0 and "bonds per node" not in r.stderr, r.stderr
+    for disc in ({"horizon": 7.5e-4}, {"horizon_factor": 3}):
+        sc["discretization"] = dict({"mesh_size": 2.5e-4}, **disc)
+        path.write_text(json.dumps(sc))
+        r = run(pd_pack, path, "-o", tmp_path / "b.h5")
+        assert r.returncode == 0 and "bonds per node" not in r.stderr, r.stderr

@@ -111,6 +111,48 @@ RESTING_DISC = """{
 DENSITY, GRAVITY = 1200.0, 10.0
 _cache = {}
 
+# The resting disc on a fixed meshed floor (body 0), with a meshed plate (body 2) driven up and
+# away at 0.1 m/s (it never touches): meshed walls record reactions.
+MESHED_FLOOR = """{
+  "title": "resting disc on a meshed floor",
+  "dimension": 2,
+  "materials": { "m1": { "law": "pmb", "density": 1200, "youngs_modulus": 3.24e7,
+                         "fracture_energy": 50 } },
+  "discretization": { "mesh_size": 2.0e-4, "horizon_factor": 3 },
+  "shapes": { "slab": { "type": "rectangle", "corners": [[-2e-3, -0.6e-3], [2e-3, 0]] } },
+  "particles": [ { "shape": "slab", "center": [0, 0], "material": "m1", "fixed": true },
+                 { "shape": "disc", "radius": 1.0e-3, "center": [0, 1.2e-3], "material": "m1" },
+                 { "shape": "slab", "center": [0, 3.5e-3], "material": "m1" } ],
+  "contact": { "restitution": 0.5 },
+  "loading": { "gravity": [0, -10], "viscous_damping": 200, "conditions": [
+    { "name": "up", "kind": "displacement", "particles": [2], "components": ["y"],
+      "time_function": "linear", "value": 0.1 },
+    { "name": "still", "kind": "displacement", "particles": [2], "components": ["x"],
+      "value": 0 } ] },
+  "solver": { "final_time": 0.03, "dt": "auto", "output_interval": 1.0e-3 }
+}
+"""
+
+
+def meshed_floor(tmp_path_factory, bin_dir):
+    """MESHED_FLOOR made with pd-pack and pd-solve and exported with pd-post (walls.csv with
+    --wall-length 2e-3); built once per session."""
+    if "floor" in _cache:
+        return _cache["floor"]
+    tools = {t: bin_dir / t for t in ("pd-pack", "pd-solve", "pd-post")}
+    for t, exe in tools.items():
+        if not exe.is_file():
+            pytest.skip("%s missing in PD_BIN_DIR" % exe)
+    d = tmp_path_factory.mktemp("meshed_floor")
+    (d / "scene.json").write_text(MESHED_FLOOR)
+    h5 = d / "floor.h5"
+    for exe, args in [("pd-pack", [d / "scene.json", "-o", h5]), ("pd-solve", [h5]),
+                      ("pd-post", [h5, "-o", d / "post", "--no-vtu", "--wall-length", "2e-3"])]:
+        r = run(tools[exe], *args, timeout=600)
+        assert r.returncode == 0, "%s failed: %s" % (exe, r.stderr)
+    _cache["floor"] = (h5, d / "post")
+    return _cache["floor"]
+
 
 def resting_disc(tmp_path_factory, bin_dir):
     """A 1 mm disc dropped 0.2 mm onto a floor under gravity (damped, restitution 0.5), made with

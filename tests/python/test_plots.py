@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from post_helpers import ANALYSIS, resting_disc
+from post_helpers import ANALYSIS, meshed_floor, resting_disc
 from test_crack import make_plate
 
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -35,6 +35,22 @@ def test_disc_plots(tmp_path_factory, bin_dir, tmp_path, name, args):
     out = tmp_path / (name[:-3] + ".png")
     script(name, h5, "-o", out, *args, cwd=tmp_path)
     check_png(out)
+
+
+def test_meshed_wall_reaction_plot(tmp_path_factory, bin_dir, tmp_path):
+    h5, _ = meshed_floor(tmp_path_factory, bin_dir)
+    for args in (["--body", "0", "--axis", "y"], ["--body", "2"], []):
+        out = tmp_path / "reaction.png"
+        r = script("plot_wall_reaction.py", h5, "-o", out, *args, cwd=tmp_path)
+        check_png(out)
+        out.unlink()
+    # A body without reactions, a rigid wall the file does not have, a fixed body without an
+    # axis: a message and exit 2, no traceback.
+    for args, words in ((["--body", "1"], "bodies 0, 2 only"), (["--wall", "0"], "no rigid walls"),
+                        (["--body", "0"], "give --axis")):
+        r = subprocess.run([sys.executable, str(ANALYSIS / "plot_wall_reaction.py"), str(h5),
+                            *args], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+        assert r.returncode == 2 and words in r.stderr and "Traceback" not in r.stderr, r.stderr
 
 
 def test_crack_speed_plot(tmp_path):

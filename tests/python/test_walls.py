@@ -1,13 +1,15 @@
 # SPDX-License-Identifier: MIT
 """walls.csv: the reaction columns equal /observables/wall_force and wall_moment exactly, the
 displacement is /walls/velocity * time, stress = force / --wall-length; and a disc resting on a
-floor (made with pd-pack and pd-solve) pushes on it with its weight."""
+floor (made with pd-pack and pd-solve) pushes on it with its weight. The same for meshed walls
+(fixed or driven bodies): body columns equal /observables/body_force and body_moment, the driven
+plate's displacement is its condition's, a disc on a fixed meshed floor loads it with its weight."""
 
 import h5py
 import numpy as np
 import pytest
 
-from post_helpers import DENSITY, GRAVITY, read_csv, resting_disc, run
+from post_helpers import DENSITY, GRAVITY, meshed_floor, read_csv, resting_disc, run
 
 
 @pytest.fixture(scope="module")
@@ -64,3 +66,61 @@ def test_no_walls_no_csv(synthetic_file, pd_post, tmp_path):
     r = run(pd_post, synthetic_file, "-o", tmp_path / "out", "--no-vtu")
     assert r.returncode == 0, r.stderr
     assert not (tmp_path / "out" / "walls.csv").exists()
+
+
+def test_meshed_walls_columns_and_weight(tmp_path_factory, bin_dir):
+    h5, post = meshed_floor(tmp_path_factory, bin_dir)
+    d = read_csv(post / "walls.csv")
+    with h5py.File(h5, "r") as f:
+        bodies = list(f["observables/body_force/body"][()])
+        force = f["observables/body_force/value"][()]
+        moment = f["observables/body_moment/value"][()]
+        time = f["observables/body_force/time"][()]
+        off = f["bodies/node_offsets"][()]
+        weight = f["nodes/volume"][off[1]:off[2]].sum() * DENSITY * GRAVITY  # the disc's
+    assert bodies == [0, 2]  # the fixed floor and the driven plate, not the free disc
+    np.testing.assert_array_equal(d["time"], time)
+    for k, b in enumerate(bodies):
+        for c, a in enumerate("xyz"):
+            np.testing.assert_array_equal(d["body_%d_force_%s" % (b, a)], force[:, k, c])
+            np.testing.assert_array_equal(d["body_%d_moment_%s" % (b, a)], moment[:, k, c])
+            np.testing.assert_allclose(d["body_%d_stress_%s" % (b, a)], force[:, k, c] / 2e-3)
+    np.testing.assert_allclose(d["body_2_disp_y"], 0.1 * time, rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal(d["body_2_disp_x"], 0 * time)
+    np.testing.assert_array_equal(d["body_0_disp_y"], 0 * time)
+    assert np.abs(force[:, 1, :]).max() == 0  # the plate never touches
+    # While the disc rests (its kinetic energy below 1e-10 J; the plate's is constant), the floor
+    # carries its weight on average over the node-level chatter. The longest such stretch:
+    with h5py.File(h5, "r") as f:
+        ke = f["observables/kinetic_energy/value"][()]
+    rest = np.flatnonzero(ke - ke[0] < 1e-10)
+    runs = np.split(rest, np.flatnonzero(np.diff(rest) > 1) + 1)
+    run_ = max(runs, key=len)
+    assert time[run_[-1]] - time[run_[0]] > 1e-3, "the disc never rests for 1 ms"
+    np.testing.assert_allclose(-force[run_, 0, 1].mean(), weight, rtol=0.01)
+
+
+def test_meshed_wall_missing_observable_is_a_clear_error(tmp_path_factory, bin_dir, tmp_path):
+    h5, _ = meshed_floor(tmp_path_factory, bin_dir)
+    bad = tmp_path / "old.h5"
+    bad.write_bytes(h5.read_bytes())
+    with h5py.File(bad, "a") as f:
+        del f["observables/body_moment"]
+    r = run(bin_dir / "pd-post", bad, "-o", tmp_path / "out", "--no-vtu")
+    assert r.returncode == 2 and "body_moment" in r.stderr and "missing" in r.stderr, r.stderr
+
+
+def test_solving_an_older_file_raises_its_version(bin_dir, tmp_path):
+    """pd-solve adds pd-file 1.2.0 objects (body_force) to a 1.1.0 file: it raises the version."""
+    from post_helpers import MESHED_FLOOR
+    (tmp_path / "scene.json").write_text(MESHED_FLOOR)
+    h5 = tmp_path / "old.h5"
+    assert run(bin_dir / "pd-pack", tmp_path / "scene.json", "-o", h5, "-q").returncode == 0
+    with h5py.File(h5, "a") as f:
+        f.attrs["schema_version"] = "1.1.0"
+    r = run(bin_dir / "pd-solve", h5, "-q", "--final-time", "1e-5")
+    assert r.returncode == 0, r.stderr
+    with h5py.File(h5, "r") as f:
+        v = f.attrs["schema_version"]
+        assert (v.decode() if isinstance(v, bytes) else v) == "1.2.0"
+        assert list(f["observables/body_force/body"][()]) == [0, 2]
