@@ -355,14 +355,17 @@ void Solver::compute_forces() {
     if (m_.loading.viscous_damping > 0) {
         const double cd = m_.loading.viscous_damping;
         const auto n = static_cast<std::int64_t>(s_.rows.size());
-        double rate = 0; // dissipation rate: cd rho |v|^2 V of the moving components
+        // Dissipation rate cd rho |v|^2 V of every moving node, prescribed components included:
+        // there the reaction that imposes the motion works against the viscous force, and that
+        // work is counted as external work.
+        double rate = 0;
 #pragma omp parallel for schedule(static) reduction(+ : rate) if (n > parallel_min)
         for (std::int64_t a = 0; a < n; ++a) {
             const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
             const auto ii = static_cast<std::size_t>(i);
             for (int d = 0; d < 3; ++d) {
                 s_.f[3 * i + d] -= cd * s_.rho[ii] * s_.v[3 * i + d];
-                if (s_.moving[ii] && !(s_.fixed_dof[ii] & (1u << d)))
+                if (s_.moving[ii])
                     rate += cd * s_.rho[ii] * s_.v[3 * i + d] * s_.v[3 * i + d] * s_.vol[ii];
             }
         }
