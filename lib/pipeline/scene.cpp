@@ -954,8 +954,10 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                      k, close, rc);
     }
 
-    // Contact-capable nodes: within the largest contact radius (plus a mesh spacing for grains
-    // that deform) of their grain's boundary. Interior nodes never search for contact.
+    // Surface-layer nodes: within the largest contact radius (plus a mesh spacing) of their
+    // grain's boundary. Only a weight for the partitioner's graph (pd-partition): the contact
+    // search takes every node of grains near each other (a grain pressed deeper than this layer
+    // must still meet the nodes below it), see solver/contact.hpp.
     {
         double rc_max = 0;
         for (const auto& p : m.contact)

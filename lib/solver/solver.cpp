@@ -307,16 +307,6 @@ void Solver::compute_forces() {
             elastic_energy_ += res.elastic_energy;
             broken_total_ += res.newly_broken;
         }
-        if (broken_total_ != exposed_at_) {
-            // Damage exposes interior nodes: they join the contact search.
-            for (std::size_t a = 0; a < s_.rows.size(); ++a)
-                for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k)
-                    if (!b_.alive[static_cast<std::size_t>(k)]) {
-                        contact_->expose(s_.rows[a]);
-                        break;
-                    }
-            exposed_at_ = broken_total_;
-        }
     }
     if (contact_->active()) {
         {
@@ -606,7 +596,6 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
         throw InputError(fmt::format("checkpoint: {} broken bond ends recorded, {} in its bond "
                                      "state",
                                      broken_total, dom_->sum(broken_total_)));
-    exposed_at_ = -1; // expose damaged nodes at the first force evaluation
 }
 
 void Solver::apply_friction() {
@@ -881,7 +870,6 @@ void Solver::redistribute(Domain* dom) {
     external_work_ = dom_->rank() == 0 ? work : 0.0;
     power_ = dom_->rank() == 0 ? power : 0.0;
     broken_total_ = count_broken();
-    exposed_at_ = -1;
     contact_->invalidate();
     walls_->invalidate();
 }
