@@ -7,6 +7,7 @@
 #include "pipeline/scene.hpp"
 #include "solver/contact.hpp"
 #include "solver/domain.hpp"
+#include "solver/solver.hpp"
 #include "solver/walls.hpp"
 
 #include <gtest/gtest.h>
@@ -163,6 +164,55 @@ TEST(WallSearch, GrainPressedDeepIntoAWallMissesNoNode) {
             below += s.x[3 * i + 1] < rc;
         ASSERT_EQ(load.touching, below) << "step " << k;
     }
+}
+
+TEST(ContactSearch, DiscPressedByAPlateStaysOutOfPlateAndBlock) {
+    // A soft disc (E = 1e5 Pa, R = 1 mm, h = 0.2 mm) between a fixed block and a plate driven
+    // down by 1.2 mm (60 % of the diameter): nodes deep inside the disc reach the plate, past
+    // the surface layer of width R_c + h = 0.34 mm that alone searched for contact before.
+    // With a contact stiff enough to hold (100 x the auto stiffness; at 1 x the node-pair
+    // force, bounded by Kn R_c V_i V_j, lets the squeezed disc into the block with either
+    // search), no disc node may end beyond the plate's or the block's outer row of nodes.
+    // Measured: disc from y = 0.079 to 1.114 mm, plate's bottom row at 1.200 mm; with the old
+    // surface-layer search the disc reaches 1.259 mm, inside the plate.
+    auto m = pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m": {"density": 1000, "youngs_modulus": 1e5}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "shapes": {"block": {"type": "rectangle", "corners": [[-2e-3, -1e-3], [2e-3, 0]]},
+                 "plate": {"type": "rectangle", "corners": [[-2e-3, 2.4e-3], [2e-3, 3.4e-3]]},
+                 "disc": {"type": "circle", "radius": 1e-3}},
+      "particles": [{"shape": "block", "center": [0, 0], "material": "m", "fixed": true},
+                    {"shape": "disc", "center": [0, 1.2e-3], "material": "m"},
+                    {"shape": "plate", "center": [0, 0], "material": "m"}],
+      "contact": {"restitution": 0.5, "stiffness_factor": 100},
+      "loading": {"conditions": [
+        {"kind": "displacement", "particles": [2], "components": ["y"], "value": -0.5,
+         "time_function": "linear"},
+        {"kind": "displacement", "particles": [2], "components": ["x"], "value": 0}]},
+      "solver": {"final_time": 1}})",
+                                   "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.7 * s.stable_dt().limit);
+    s.initialize();
+    const int steps = static_cast<int>(std::ceil(2.4e-3 / s.dt())); // plate moves 1.2 mm
+    for (int k = 0; k < steps; ++k)
+        s.advance();
+    const auto& x = s.state().x;
+    auto y_range = [&](std::size_t b) {
+        std::pair<double, double> r{1, -1};
+        for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
+            r.first = std::min(r.first, x[3 * static_cast<std::size_t>(i) + 1]);
+            r.second = std::max(r.second, x[3 * static_cast<std::size_t>(i) + 1]);
+        }
+        return r;
+    };
+    const auto block = y_range(0), disc = y_range(1), plate = y_range(2);
+    std::printf("[ pressed ] block top row %.3f mm, disc %.3f to %.3f mm, plate bottom row %.3f "
+                "mm\n",
+                block.second * 1e3, disc.first * 1e3, disc.second * 1e3, plate.first * 1e3);
+    EXPECT_LT(plate.first, 1.21e-3); // the plate did press the disc (from 2.4 mm)
+    EXPECT_GT(disc.first, block.second);
+    EXPECT_LT(disc.second, plate.first);
 }
 
 } // namespace
