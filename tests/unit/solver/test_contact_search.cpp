@@ -215,4 +215,39 @@ TEST(ContactSearch, DiscPressedByAPlateStaysOutOfPlateAndBlock) {
     EXPECT_LT(disc.second, plate.first);
 }
 
+TEST(WallSearch, RotatingWallMeetsAGrainFarFromItsCentre) {
+    // A plane through the origin turning at 1 rad/s sweeps up into a disc at rest 10 mm from the
+    // rotation centre. The list is rebuilt when the wall may have moved half the skin near any
+    // node: the bound must use the farthest node, not only the current candidates (there are
+    // none at the start, so a bound over candidates is 0 and the list is never rebuilt).
+    const auto m = pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m1": {"density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [10e-3, 1.5e-3], "material": "m1"}],
+      "walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1], "angular_velocity": 1}],
+      "contact": {}, "solver": {"final_time": 1}})",
+                                         "t", quiet);
+    const double rc = m.contact.front().radius;
+    auto s = state_of(m);
+    solver::WallContact wc(m, rc);
+    std::int64_t touched = 0;
+    for (int k = 0; k <= 100; ++k) {
+        s.time = k * 10.0 * rc; // 1 rad/s at 10 mm: the wall near the disc rises 0.1 R_c a step
+        wc.update(s);
+        solver::WallLoad load;
+        wc.add_forces(s, load, nullptr);
+        const auto pose = solver::wall_pose(m.walls.front(), s.time);
+        std::int64_t near = 0;
+        for (std::size_t i = 0; i < s.n; ++i) {
+            double d = 0;
+            for (std::size_t q = 0; q < 3; ++q)
+                d += (s.x[3 * i + q] - pose.point[q]) * pose.normal[q];
+            near += d < rc;
+        }
+        ASSERT_EQ(load.touching, near) << "step " << k;
+        touched = std::max(touched, near);
+    }
+    EXPECT_GT(touched, 10); // the wall did reach into the disc
+}
+
 } // namespace
