@@ -1008,7 +1008,7 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
                 else {
                     law["stiffness"] = "auto";
                     log.warn("{}.Kn: missing or zero (PeriDEM: no contact force); imported as "
-                             "\"auto\" (18 kappa / (pi delta^(d+2)))",
+                             "\"auto\" (18 kappa / (pi delta^(d+2)) (0.95 h / R_c)^(d+1))",
                              w);
                 }
                 if (flag_or(n, w, "Damping_On", true)) {

@@ -954,9 +954,14 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 throw ConfigError(w + ".stiffness", "must be >= 0 (0 = no contact), or \"auto\"");
         } else if (o.contains("stiffness") || o.contains("stiffness_factor") || !base) {
             text(o, w, "stiffness", "auto", {"auto"});
-            // Kn = 18 kappa / (pi delta^(d+2)): kappa the harmonic mean of the two groups' bulk
-            // moduli (a rigid wall counts as the grain's own modulus), delta the largest horizon.
-            // Dimensionally consistent in 2D and 3D (spec decision 7).
+            // Kn = 18 kappa / (pi delta^(d+2)) (0.95 h_min / R_c)^(d+1): kappa the harmonic
+            // mean of the two groups' bulk moduli (a rigid wall counts as the grain's own
+            // modulus), delta the largest horizon. Dimensionally consistent in 2D and 3D (spec
+            // decision 7). The last factor (1 at PeriDEM's R_c = 0.95 h) keeps the contact
+            // layer's pressure per overlap, Kn times the integral of (R_c - r) over the partner's
+            // nodes within R_c ~ Kn R_c^(d+1), when R_c grows: with R_c = 3 h the node-scale
+            // roughness is gone and restitution and head-on impacts converge (measured in
+            // tests/unit/solver/test_restitution.cpp).
             double ka = group_modulus(ga), kb = group_modulus(gb);
             if (ka == 0)
                 ka = kb;
@@ -964,6 +969,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                 kb = ka;
             const double kappa = ka > 0 ? 2 * ka * kb / (ka + kb) : 0;
             p.stiffness = 18.0 * kappa / (std::numbers::pi * std::pow(delta_max, m.dimension + 2)) *
+                          std::pow(0.95 * hmin / p.radius, m.dimension + 1) *
                           number(o, w, "stiffness_factor", 1.0);
         }
         return p;
@@ -1013,8 +1019,10 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                      k, close, rc);
     }
 
-    // Contact-capable nodes: within the largest contact radius (plus a mesh spacing for grains
-    // that deform) of their grain's boundary. Interior nodes never search for contact.
+    // Surface-layer nodes: within the largest contact radius (plus a mesh spacing) of their
+    // grain's boundary. Only a weight for the partitioner's graph (pd-partition): the contact
+    // search takes every node of grains near each other (a grain pressed deeper than this layer
+    // must still meet the nodes below it), see solver/contact.hpp.
     {
         double rc_max = 0;
         for (const auto& p : m.contact)

@@ -28,8 +28,6 @@ ContactList::ContactList(const model::Model& m, double skin)
         any_friction_ = any_friction_ || p.friction > 0;
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
-    eligible_ =
-        m.nodes.surface.empty() ? std::vector<std::uint8_t>(m.nodes.num(), 1) : m.nodes.surface;
     owned_.assign(m.nodes.num(), 1);
 }
 
@@ -50,10 +48,6 @@ bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double
         far = far || d2 > lim2;
     }
     return far;
-}
-
-std::size_t ContactList::num_eligible() const {
-    return static_cast<std::size_t>(std::count(eligible_.begin(), eligible_.end(), 1));
 }
 
 std::int64_t ContactList::add_forces_impl(State& s, double& energy,
@@ -136,7 +130,7 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
 }
 
 void ContactList::set_owned(const Domain& dom) {
-    owned_.assign(eligible_.size(), 0);
+    std::fill(owned_.begin(), owned_.end(), std::uint8_t{0});
     for (auto i : dom.rows())
         owned_[static_cast<std::size_t>(i)] = 1;
 }
@@ -149,7 +143,6 @@ bool ContactList::update(State& s, const Domain& dom) {
         return false;
     if (dom.distributed()) {
         dom.allgather(s.x, 3); // every node where its owner has it
-        dom.max(eligible_);    // nodes exposed by damage on any rank
     }
     rebuild(s);
     return true;
@@ -195,13 +188,14 @@ void ContactList::rebuild(const State& s) {
                 near[a] = near[b] = 1;
         }
     }
-    // Cell list over the nodes of near bodies, cell size = reach.
+    // Cell list over EVERY node of the near bodies, cell size = reach. No node is left out by
+    // its depth in the grain: a node deep inside a grain can meet a node of another grain that
+    // was pressed deep into it, and leaving it out lets grains tunnel through each other.
     std::vector<index_t> active_nodes;
     for (std::size_t b = 0; b < nb; ++b)
         if (near[b])
             for (auto i = body_offsets_[b]; i < body_offsets_[b + 1]; ++i)
-                if (eligible_[static_cast<std::size_t>(i)])
-                    active_nodes.push_back(static_cast<index_t>(i));
+                active_nodes.push_back(static_cast<index_t>(i));
     // Exact cell keys: integer cell coordinates from the box of the active nodes, 21 bits each.
     double origin[3] = {0, 0, 0};
     if (!active_nodes.empty())
@@ -225,10 +219,6 @@ void ContactList::rebuild(const State& s) {
         const auto cz = static_cast<std::int64_t>((x[2] - origin[2]) / reach) + dz;
         return (cx << 42) | (cy << 21) | cz;
     };
-    std::unordered_map<std::int64_t, std::vector<index_t>> cells;
-    cells.reserve(active_nodes.size());
-    for (auto i : active_nodes)
-        cells[cell_of(&s.x[3 * i], 0, 0, 0)].push_back(i);
     const bool flat = [&] {
         for (auto i : active_nodes)
             if (s.x[3 * i + 2] != 0.0)
@@ -236,16 +226,57 @@ void ContactList::rebuild(const State& s) {
         return true;
     }();
     const int zr = flat ? 0 : 1;
+    // Cells sorted by key: (key, node) pairs, one sort, no per-cell allocation.
+    std::vector<std::pair<std::int64_t, index_t>> keyed(active_nodes.size());
+    for (std::size_t a = 0; a < active_nodes.size(); ++a)
+        keyed[a] = {cell_of(&s.x[3 * active_nodes[a]], 0, 0, 0), active_nodes[a]};
+    std::sort(keyed.begin(), keyed.end());
+    struct Cell {
+        std::size_t begin, end; ///< range in `keyed`
+        std::int32_t body;      ///< the one body with nodes in the cell, or -1 if several
+        bool quiet;             ///< this cell and its neighbours hold nodes of `body` only
+    };
+    std::unordered_map<std::int64_t, Cell> cells;
+    cells.reserve(keyed.size() / 2 + 1);
+    for (std::size_t a = 0; a < keyed.size();) {
+        std::size_t e = a;
+        std::int32_t body = s.body[static_cast<std::size_t>(keyed[a].second)];
+        while (e < keyed.size() && keyed[e].first == keyed[a].first) {
+            if (s.body[static_cast<std::size_t>(keyed[e].second)] != body)
+                body = -1;
+            ++e;
+        }
+        cells.emplace(keyed[a].first, Cell{a, e, body, false});
+        a = e;
+    }
+    // Exact skip: a candidate j of node i lies within `reach` of it, so in i's cell or one of
+    // its 3^d neighbours. When all of them hold nodes of i's own body only (a grain's inside,
+    // away from every other grain), i has no candidate and its cells need not be scanned.
+    for (auto& [key, c] : cells) {
+        if (c.body < 0)
+            continue;
+        const double* x = &s.x[3 * static_cast<std::size_t>(keyed[c.begin].second)];
+        bool quiet = true;
+        for (int dx = -1; dx <= 1 && quiet; ++dx)
+            for (int dy = -1; dy <= 1 && quiet; ++dy)
+                for (int dz = -zr; dz <= zr && quiet; ++dz) {
+                    auto it = cells.find(cell_of(x, dx, dy, dz));
+                    quiet = it == cells.end() || it->second.body == c.body;
+                }
+        c.quiet = quiet;
+    }
     std::vector<std::vector<index_t>> rows(s.n);
     std::vector<std::vector<std::int32_t>> laws(s.n);
     const double r2max = reach * reach;
-    const auto na = static_cast<std::int64_t>(active_nodes.size());
+    const auto na = static_cast<std::int64_t>(keyed.size());
 #pragma omp parallel for schedule(dynamic, 256) if (na > parallel_min)
     for (std::int64_t a = 0; a < na; ++a) {
-        const index_t i = active_nodes[static_cast<std::size_t>(a)];
+        const index_t i = keyed[static_cast<std::size_t>(a)].second;
         if (!owned_[static_cast<std::size_t>(i)])
             continue; // rows of owned nodes only; the cells hold every active node
         const double* xi = &s.x[3 * i];
+        if (cells.find(keyed[static_cast<std::size_t>(a)].first)->second.quiet)
+            continue;
         const auto gi = body_group_[static_cast<std::size_t>(s.body[i])];
         for (int dx = -1; dx <= 1; ++dx)
             for (int dy = -1; dy <= 1; ++dy)
@@ -253,7 +284,8 @@ void ContactList::rebuild(const State& s) {
                     auto it = cells.find(cell_of(xi, dx, dy, dz));
                     if (it == cells.end())
                         continue;
-                    for (index_t j : it->second) {
+                    for (auto q = it->second.begin; q < it->second.end; ++q) {
+                        const index_t j = keyed[q].second;
                         if (s.body[j] == s.body[i])
                             continue; // same grain: bonds (and broken-bond repulsion) act there
                         const auto law = law_of_[static_cast<std::size_t>(

@@ -3,8 +3,14 @@
 //   f_i += Kn (R - R_c) V_j (y_j - y_i)/R   for R = |y_j - y_i| < R_c,
 // a force density; the nodal force Kn (R_c - R) V_i V_j is symmetric, so momentum is conserved.
 // Candidate pairs come from a broad phase over body bounding boxes (only bodies whose boxes come
-// within reach are searched), then a cell list over the nodes of those bodies, with a skin: the
-// list is rebuilt only when some node moved more than half the skin since the last build.
+// within reach R_c + skin are searched), then a cell list (cells of size reach) over EVERY node
+// of those bodies, with a skin: the list is rebuilt only when some node moved more than half the
+// skin since the last build (so no pair closer than R_c now was farther than reach then). Each
+// skip is conservative: a body skipped by the broad phase has no node within reach of another
+// body's node; a node whose cell and neighbour cells hold only nodes of its own body has no
+// candidate (so the inside of a grain costs one lookup per cell, not a scan). No node is left
+// out by its depth inside its grain (the old "surface layer" rule let grains pressed deeper than
+// that layer tunnel through each other).
 #pragma once
 
 #include "model/model.hpp"
@@ -41,16 +47,6 @@ class ContactList {
     void invalidate() { built_ = false; }
     /// Appends the candidates owned by other ranks (ghosts the contact forces read).
     void ghosts(std::vector<index_t>& out) const;
-    /// Lets node i take part in contact from the next rebuild on (exposed by damage) and asks
-    /// for a rebuild at the next update().
-    void expose(index_t i) {
-        if (!eligible_[static_cast<std::size_t>(i)]) {
-            eligible_[static_cast<std::size_t>(i)] = 1;
-            built_ = false;
-        }
-    }
-    /// Nodes that take part in contact (near a grain's surface or exposed by damage).
-    std::size_t num_eligible() const;
     /// Adds normal contact force densities to s.f; returns the number of node pairs in contact
     /// and their spring energy sum 1/2 Kn (R_c - R)^2 V_i V_j (J). With `normal`, also lists the
     /// normal force of every touching pair whose law damps or has friction (sorted by node, so
@@ -79,7 +75,6 @@ class ContactList {
     std::vector<index_t> neighbor_;
     std::vector<std::int32_t> law_;
     std::vector<double> x_build_;
-    std::vector<std::uint8_t> eligible_;
     std::vector<std::uint8_t> owned_; ///< 1 = this rank builds the node's row
     bool built_ = false;
     bool any_friction_ = false;

@@ -287,16 +287,6 @@ void Solver::compute_forces() {
         }
         if (law_.any_rnp)
             book(rnp_bond_forces(s_, b_, law_));
-        if (broken_total_ != exposed_at_) {
-            // Damage exposes interior nodes: they join the contact search.
-            for (std::size_t a = 0; a < s_.rows.size(); ++a)
-                for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k)
-                    if (!b_.alive[static_cast<std::size_t>(k)]) {
-                        contact_->expose(s_.rows[a]);
-                        break;
-                    }
-            exposed_at_ = broken_total_;
-        }
     }
     reactions_.before(s_);
     if (contact_->active()) {
@@ -611,7 +601,6 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
         throw InputError(fmt::format("checkpoint: {} broken bond ends recorded, {} in its bond "
                                      "state",
                                      broken_total, dom_->sum(broken_total_)));
-    exposed_at_ = -1; // expose damaged nodes at the first force evaluation
 }
 
 void Solver::apply_friction() {
@@ -897,7 +886,6 @@ void Solver::redistribute(Domain* dom) {
         d = dom_->rank() == 0 ? d : 0.0;
     diss_ = {diss[0], diss[1], diss[2], diss[3], diss[4], diss[5], diss[6]};
     broken_total_ = count_broken();
-    exposed_at_ = -1;
     contact_->invalidate();
     walls_->invalidate();
 }

@@ -197,8 +197,7 @@ class Solver {
     std::int64_t contact_count_ = 0;
     std::int64_t broken_total_ = 0; ///< from both ends, this rank's rows
     std::int64_t precracked_ = 0;
-    std::int64_t exposed_at_ = 0; ///< broken_total_ when damaged nodes were last exposed
-    std::vector<double> fbc_;     ///< force-condition density per component (if any)
+    std::vector<double> fbc_; ///< force-condition density per component (if any)
     std::vector<std::array<double, 4>> cond_box_; ///< per condition: x and y range of its nodes
     bool has_prescribed_ = false;
     double external_work_ = 0;

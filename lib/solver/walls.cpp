@@ -111,7 +111,8 @@ bool WallContact::update(const State& s) {
             const double om = std::sqrt(w.angular_velocity[0] * w.angular_velocity[0] +
                                         w.angular_velocity[1] * w.angular_velocity[1] +
                                         w.angular_velocity[2] * w.angular_velocity[2]);
-            wall_move = std::max(wall_move, (v + om * extent_) * dT);
+            // (the rotation centre itself may have moved v dT away from the nodes since)
+            wall_move = std::max(wall_move, (v + om * (extent_ + v * dT)) * dT);
         }
         if (!moved_farther_than(s, x_build_, 0.5 * skin_ - wall_move))
             return false;
@@ -133,6 +134,8 @@ void WallContact::rebuild(const State& s) {
     for (const auto& w : walls_)
         pose.push_back(wall_pose(w, s.time));
     const double reach = rc_max_ + skin_;
+    // No node is skipped by its depth inside its grain: every moving node is tested against
+    // every wall (one distance each), so a grain pressed deep into a wall keeps meeting it.
     for (const auto row : s.rows) {
         const auto i = static_cast<std::size_t>(row);
         if (!s.moving[i])
@@ -148,11 +151,14 @@ void WallContact::rebuild(const State& s) {
             if (d < reach) {
                 wall_of_.push_back(static_cast<std::int32_t>(w));
                 any = true;
-                double r2 = 0;
-                for (int k = 0; k < 3; ++k)
-                    r2 += std::pow(s.x[3 * i + k] - pose[w].centre[k], 2);
-                extent_ = std::max(extent_, std::sqrt(r2));
             }
+            // Every moving node, candidate or not: a wall point that may come within reach of
+            // any node lies within |x_i - c| + reach of the rotation centre c, so it moves at
+            // most omega (|x_i - c| + reach) per unit of the time function.
+            double r2 = 0;
+            for (int k = 0; k < 3; ++k)
+                r2 += (s.x[3 * i + k] - pose[w].centre[k]) * (s.x[3 * i + k] - pose[w].centre[k]);
+            extent_ = std::max(extent_, std::sqrt(r2) + reach);
         }
         if (any) {
             nodes_.push_back(static_cast<index_t>(i));

@@ -4,8 +4,10 @@
 // its surface: f_i = Kn (R_c - d) V_i n for signed distance d < R_c (n into the free side), with
 // the (grain group, wall group) law of the contact table. Coulomb friction opposes slip relative
 // to the moving wall surface. Every wall receives the reaction force and its moment about the
-// wall's rotation centre. Candidate nodes are kept in a list with a skin, rebuilt only when a
-// node or the wall moved more than half the skin.
+// wall's rotation centre. Candidate nodes (every moving node within R_c + skin of a wall; none is
+// skipped by its depth in its grain) are kept in a list with a skin, rebuilt when a node moved
+// more than half the skin minus a bound on how far any wall point near a node moved (translation
+// plus rotation times the farthest node's distance from the rotation centre plus the reach).
 #pragma once
 
 #include "model/model.hpp"
@@ -74,7 +76,7 @@ class WallContact {
     std::vector<std::int32_t> wall_of_;
     std::vector<double> x_build_;
     double t_build_ = 0;
-    double extent_ = 0; ///< max node distance from a rotation centre at build
+    double extent_ = 0; ///< max node distance from a rotation centre at build, plus the reach
     bool built_ = false;
     std::int64_t rebuilds_ = 0;
 };

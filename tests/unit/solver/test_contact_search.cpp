@@ -1,0 +1,253 @@
+// SPDX-License-Identifier: MIT
+// The contact search misses no pair: grains pressed deep into each other (far past the surface
+// layer of width R_c + h that alone searched for contact before) and into a rigid wall give
+// exactly the node pairs a brute-force O(n^2) check finds, at the build and after moves that stay
+// inside the skin.
+#include "core/log.hpp"
+#include "pipeline/scene.hpp"
+#include "solver/contact.hpp"
+#include "solver/domain.hpp"
+#include "solver/solver.hpp"
+#include "solver/walls.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace {
+
+using namespace pd;
+
+const Log quiet("test", 0, Verbosity::quiet);
+
+solver::State state_of(const model::Model& m) {
+    solver::State s;
+    s.n = m.nodes.num();
+    s.x0 = m.nodes.x0;
+    s.x = s.x0;
+    s.u.assign(3 * s.n, 0.0);
+    s.v.assign(3 * s.n, 0.0);
+    s.f.assign(3 * s.n, 0.0);
+    s.vol = m.nodes.volume;
+    s.rho.assign(s.n, 1000.0);
+    s.body = m.nodes.body;
+    s.moving.assign(s.n, 1);
+    s.fixed_dof.assign(s.n, 0);
+    for (std::size_t i = 0; i < s.n; ++i)
+        s.rows.push_back(static_cast<solver::index_t>(i));
+    return s;
+}
+
+/// Moves body b rigidly: rotation by `angle` about its centre of nodes, then shift (dx, dy).
+void move_body(const model::Model& m, solver::State& s, std::size_t b, double angle, double dx,
+               double dy) {
+    double c[2] = {0, 0};
+    const auto n = static_cast<double>(m.bodies.end(b) - m.bodies.begin(b));
+    for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i)
+        for (int d = 0; d < 2; ++d)
+            c[d] += s.x[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(d)] / n;
+    const double cs = std::cos(angle), sn = std::sin(angle);
+    for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
+        double* x = &s.x[3 * static_cast<std::size_t>(i)];
+        const double rx = x[0] - c[0], ry = x[1] - c[1];
+        x[0] = c[0] + cs * rx - sn * ry + dx;
+        x[1] = c[1] + sn * rx + cs * ry + dy;
+    }
+}
+
+/// Node pairs of different bodies closer than R_c, and their spring energy, by brute force.
+std::pair<std::int64_t, double> brute_force(const model::Model& m, const solver::State& s) {
+    const auto& law = m.contact.front();
+    std::int64_t pairs = 0;
+    double e = 0;
+    for (std::size_t i = 0; i < s.n; ++i)
+        for (std::size_t j = i + 1; j < s.n; ++j) {
+            if (s.body[i] == s.body[j])
+                continue;
+            const double r = std::hypot(s.x[3 * j] - s.x[3 * i], s.x[3 * j + 1] - s.x[3 * i + 1]);
+            if (r < law.radius) {
+                ++pairs;
+                e +=
+                    0.5 * law.stiffness * (law.radius - r) * (law.radius - r) * s.vol[i] * s.vol[j];
+            }
+        }
+    return {pairs, e};
+}
+
+model::Model two_discs() {
+    return pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m1": {"density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m1"},
+                    {"radius": 0.8e-3, "center": [3e-3, 0.3e-3], "material": "m1",
+                     "orientation": 0.37}],
+      "contact": {}, "solver": {"final_time": 1}})",
+                                 "t", quiet);
+}
+
+TEST(ContactSearch, DeepOverlapMissesNoPair) {
+    const auto m = two_discs();
+    const double rc = m.contact.front().radius;
+    auto s = state_of(m);
+    // Disc 1 pushed 0.9 mm deep into disc 0 (its centre 0.9 mm from disc 0's, far past the
+    // surface layer of width R_c + h = 0.195 mm), and turned.
+    move_body(m, s, 1, 0.21, -2.1e-3, -0.3e-3);
+    solver::Domain dom(s.n);
+    solver::ContactList cl(m, rc);
+    ASSERT_TRUE(cl.active());
+    ASSERT_TRUE(cl.update(s, dom));
+    double e = 0;
+    auto [pairs, e_ref] = brute_force(m, s);
+    // Pairs of two nodes that lie deeper than R_c + h in their own grains (m.nodes.surface = 0):
+    // the old rule, which searched the surface layers only, missed every one of them.
+    std::int64_t deep = 0;
+    for (std::size_t i = 0; i < s.n; ++i)
+        for (std::size_t j = i + 1; j < s.n; ++j)
+            deep += s.body[i] != s.body[j] && !m.nodes.surface[i] && !m.nodes.surface[j] &&
+                    std::hypot(s.x[3 * j] - s.x[3 * i], s.x[3 * j + 1] - s.x[3 * i + 1]) < rc;
+    ASSERT_GT(deep, 100);
+    EXPECT_EQ(cl.add_forces(s, e, nullptr), pairs);
+    EXPECT_NEAR(e, e_ref, 1e-12 * e_ref);
+    // Moves of less than half the skin per build keep the list exact without a rebuild; larger
+    // ones rebuild. Disc 1 slides through disc 0 in steps of 0.2 R_c.
+    std::int64_t rebuilds = cl.rebuilds();
+    for (int k = 0; k < 40; ++k) {
+        move_body(m, s, 1, 0.003, 0.2 * rc, 0.05 * rc);
+        cl.update(s, dom);
+        std::fill(s.f.begin(), s.f.end(), 0.0);
+        const auto ref = brute_force(m, s);
+        ASSERT_EQ(cl.add_forces(s, e, nullptr), ref.first) << "step " << k;
+        ASSERT_NEAR(e, ref.second, 1e-12 * ref.second) << "step " << k;
+    }
+    EXPECT_GT(cl.rebuilds(), rebuilds);      // the skin ran out several times
+    EXPECT_LT(cl.rebuilds(), rebuilds + 40); // but not at every step
+}
+
+TEST(ContactSearch, GrainsApartCostNoCandidates) {
+    // Far apart: the broad phase keeps both discs out; within reach but not touching: only nodes
+    // near the gap have candidates (the inside of each disc is skipped cell by cell).
+    const auto m = two_discs();
+    const double rc = m.contact.front().radius;
+    auto s = state_of(m);
+    solver::Domain dom(s.n);
+    solver::ContactList cl(m, rc);
+    cl.update(s, dom);
+    EXPECT_EQ(cl.num_candidates(), 0u);
+    move_body(m, s, 1, 0, -1.2e-3 + 1.5 * rc, -0.3e-3); // gap 1.5 R_c < R_c + skin
+    cl.invalidate();
+    cl.update(s, dom);
+    double e = 0;
+    EXPECT_EQ(cl.add_forces(s, e, nullptr), 0);
+    EXPECT_GT(cl.num_candidates(), 0u);
+    EXPECT_LT(cl.num_candidates(), s.n);
+}
+
+TEST(WallSearch, GrainPressedDeepIntoAWallMissesNoNode) {
+    const auto m = pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m1": {"density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 1.5e-3], "material": "m1"}],
+      "walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1]}],
+      "contact": {}, "solver": {"final_time": 1}})",
+                                         "t", quiet);
+    const double rc = m.contact.front().radius;
+    auto s = state_of(m);
+    solver::WallContact wc(m, rc);
+    ASSERT_TRUE(wc.active());
+    for (int k = 0; k < 60; ++k) {
+        move_body(m, s, 0, 0.002, 0.1 * rc, -0.3 * rc); // sinks 1.3 mm into the wall in all
+        wc.update(s);
+        solver::WallLoad load;
+        wc.add_forces(s, load, nullptr);
+        std::int64_t below = 0;
+        for (std::size_t i = 0; i < s.n; ++i)
+            below += s.x[3 * i + 1] < rc;
+        ASSERT_EQ(load.touching, below) << "step " << k;
+    }
+}
+
+TEST(ContactSearch, DiscPressedByAPlateStaysOutOfPlateAndBlock) {
+    // A soft disc (E = 1e5 Pa, R = 1 mm, h = 0.2 mm) between a fixed block and a plate driven
+    // down by 1.2 mm (60 % of the diameter): nodes deep inside the disc reach the plate, past
+    // the surface layer of width R_c + h = 0.34 mm that alone searched for contact before.
+    // With a contact stiff enough to hold (100 x the auto stiffness; at 1 x the node-pair
+    // force, bounded by Kn R_c V_i V_j, lets the squeezed disc into the block with either
+    // search), no disc node may end beyond the plate's or the block's outer row of nodes.
+    // Measured: disc from y = 0.079 to 1.114 mm, plate's bottom row at 1.200 mm; with the old
+    // surface-layer search the disc reaches 1.259 mm, inside the plate.
+    auto m = pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m": {"density": 1000, "youngs_modulus": 1e5}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "shapes": {"block": {"type": "rectangle", "corners": [[-2e-3, -1e-3], [2e-3, 0]]},
+                 "plate": {"type": "rectangle", "corners": [[-2e-3, 2.4e-3], [2e-3, 3.4e-3]]},
+                 "disc": {"type": "circle", "radius": 1e-3}},
+      "particles": [{"shape": "block", "center": [0, 0], "material": "m", "fixed": true},
+                    {"shape": "disc", "center": [0, 1.2e-3], "material": "m"},
+                    {"shape": "plate", "center": [0, 0], "material": "m"}],
+      "contact": {"restitution": 0.5, "stiffness_factor": 100},
+      "loading": {"conditions": [
+        {"kind": "displacement", "particles": [2], "components": ["y"], "value": -0.5,
+         "time_function": "linear"},
+        {"kind": "displacement", "particles": [2], "components": ["x"], "value": 0}]},
+      "solver": {"final_time": 1}})",
+                                   "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.7 * s.stable_dt().limit);
+    s.initialize();
+    const int steps = static_cast<int>(std::ceil(2.4e-3 / s.dt())); // plate moves 1.2 mm
+    for (int k = 0; k < steps; ++k)
+        s.advance();
+    const auto& x = s.state().x;
+    auto y_range = [&](std::size_t b) {
+        std::pair<double, double> r{1, -1};
+        for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
+            r.first = std::min(r.first, x[3 * static_cast<std::size_t>(i) + 1]);
+            r.second = std::max(r.second, x[3 * static_cast<std::size_t>(i) + 1]);
+        }
+        return r;
+    };
+    const auto block = y_range(0), disc = y_range(1), plate = y_range(2);
+    std::printf("[ pressed ] block top row %.3f mm, disc %.3f to %.3f mm, plate bottom row %.3f "
+                "mm\n",
+                block.second * 1e3, disc.first * 1e3, disc.second * 1e3, plate.first * 1e3);
+    EXPECT_LT(plate.first, 1.21e-3); // the plate did press the disc (from 2.4 mm)
+    EXPECT_GT(disc.first, block.second);
+    EXPECT_LT(disc.second, plate.first);
+}
+
+TEST(WallSearch, RotatingWallMeetsAGrainFarFromItsCentre) {
+    // A plane through the origin turning at 1 rad/s sweeps up into a disc at rest 10 mm from the
+    // rotation centre. The list is rebuilt when the wall may have moved half the skin near any
+    // node: the bound must use the farthest node, not only the current candidates (there are
+    // none at the start, so a bound over candidates is 0 and the list is never rebuilt).
+    const auto m = pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m1": {"density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [10e-3, 1.5e-3], "material": "m1"}],
+      "walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1], "angular_velocity": 1}],
+      "contact": {}, "solver": {"final_time": 1}})",
+                                         "t", quiet);
+    const double rc = m.contact.front().radius;
+    auto s = state_of(m);
+    solver::WallContact wc(m, rc);
+    std::int64_t touched = 0;
+    for (int k = 0; k <= 100; ++k) {
+        s.time = k * 10.0 * rc; // 1 rad/s at 10 mm: the wall near the disc rises 0.1 R_c a step
+        wc.update(s);
+        solver::WallLoad load;
+        wc.add_forces(s, load, nullptr);
+        const auto pose = solver::wall_pose(m.walls.front(), s.time);
+        std::int64_t near = 0;
+        for (std::size_t i = 0; i < s.n; ++i) {
+            double d = 0;
+            for (std::size_t q = 0; q < 3; ++q)
+                d += (s.x[3 * i + q] - pose.point[q]) * pose.normal[q];
+            near += d < rc;
+        }
+        ASSERT_EQ(load.touching, near) << "step " << k;
+        touched = std::max(touched, near);
+    }
+    EXPECT_GT(touched, 10); // the wall did reach into the disc
+}
+
+} // namespace
