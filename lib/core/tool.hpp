@@ -42,6 +42,8 @@ struct RunInfo {
     std::string start_time; ///< ISO 8601, UTC
     int mpi_ranks = 1;
     int threads = 1;
+    /// pd-pack --set: the scene overrides as a JSON object (path -> value); empty if none.
+    std::string overrides;
 };
 
 /// Per-run context handed to the pipeline function.
