@@ -17,7 +17,7 @@ SWEEP.json:
            # or "list": "sets.csv" (header: the paths; values parsed as JSON)
    "ranks": 1, "threads": 1, "solve_args": [],
    "slurm": {"time": "01:00:00", "ranks": 4, "threads": 2, "partition": "", "account": "",
-             "signal_seconds": 120}}
+             "signal_seconds": 120, "srun_mpi": "pmix"}}
 Paths are pd-pack --set paths (dotted or JSON pointers); values are JSON.
 
 A run is done when run.done exists: pd-solve ended with 0, or with a final failure (2, 3, 4:
@@ -114,6 +114,7 @@ SLURM = """\
 # The task is then requeued and continues with pd-solve --restart.
 cd {dir}
 export OMP_NUM_THREADS=${{SLURM_CPUS_PER_TASK:-1}}
+export PD_SRUN_MPI="{srun_mpi}"   # srun --mpi=... (Open MPI 4 on Debian: pmix; "" for the site default)
 RUN=$(sed -n "$((SLURM_ARRAY_TASK_ID + 1))p" runs.txt)
 /usr/bin/python3 {sweep_py} run "$RUN" --launcher srun --ranks "${{SLURM_NTASKS:-1}}" &
 child=$!
@@ -163,13 +164,13 @@ def expand(a):
     with open(os.path.join(out, "Makefile"), "w") as fh:
         fh.write(MAKEFILE.format(sweep_py=os.path.abspath(__file__), runs=" ".join(names)))
     sl = {"time": "01:00:00", "ranks": conf["ranks"], "threads": conf["threads"],
-          "partition": "", "account": "", "signal_seconds": 120}
+          "partition": "", "account": "", "signal_seconds": 120, "srun_mpi": "pmix"}
     sl.update(sweep.get("slurm", {}))
     extra = "".join(f"#SBATCH --{k}={sl[k]}\n" for k in ("partition", "account") if sl[k])
     with open(os.path.join(out, "slurm.sh"), "w") as fh:
         fh.write(SLURM.format(name=os.path.basename(out) or "sweep", last=len(names) - 1,
                               ranks=sl["ranks"], threads=sl["threads"], time=sl["time"],
-                              signal_seconds=sl["signal_seconds"], extra=extra, dir=out,
+                              signal_seconds=sl["signal_seconds"], extra=extra, srun_mpi=sl["srun_mpi"], dir=out,
                               sweep_py=os.path.abspath(__file__), preempted=EXIT_PREEMPTED))
     os.chmod(os.path.join(out, "slurm.sh"), 0o755)
     print(f"{len(names)} runs in {out}: make -C {out} -j N, or sbatch {out}/slurm.sh; "
@@ -263,7 +264,8 @@ def run(a):
                            "pd-partition")
     if rc == 0 and not stop[0]:
         launcher = a.launcher or ("mpirun" if ranks > 1 else "")
-        pre = {"srun": ["srun"], "mpirun": ["mpirun", "--oversubscribe", "-np", str(ranks)],
+        mpi = os.environ.get("PD_SRUN_MPI", "pmix")
+        pre = {"srun": ["srun", *([f"--mpi={mpi}"] if mpi else [])], "mpirun": ["mpirun", "--oversubscribe", "-np", str(ranks)],
                "": []}[launcher]
         a.launcher = launcher
         cmd = pre + [os.path.join(b, "pd-solve"), h5, *conf["solve_args"],
