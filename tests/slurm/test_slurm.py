@@ -140,3 +140,55 @@ def test_sweep_as_a_slurm_job_array(tmp_path, slurm):
     for row in rows:
         asked, got = float(row["contact.restitution"]), float(row["restitution"])
         assert abs(got / asked - 1) < 0.05, row
+
+
+def test_sigterm_to_the_batch_script_requeues_and_restarts(tmp_path, slurm):
+    """What --signal=B:TERM@120 does before the wall-time limit, sent now (scancel --batch):
+    the script passes SIGTERM on, pd-solve checkpoints and exits 75, the task requeues itself
+    and continues with pd-solve --restart to exit 0."""
+    import h5py
+    import json
+    env = dict(slurm, PD_BIN_DIR=os.path.abspath(BIN), OMP_NUM_THREADS="1")
+    spec = {"base": os.path.join(SRC, "tests", "sweep", "two_discs.json"),
+            "list": [{"discretization.mesh_size": 1e-4, "solver.final_time": 1.2e-3}],
+            "solve_args": ["--progress-every", "0.2"], "slurm": {"time": "00:10:00"}}
+    sp = tmp_path / "s.json"
+    sp.write_text(json.dumps(spec))
+    d = tmp_path / "sw"
+    r = subprocess.run(["/usr/bin/python3", SWEEP, "expand", str(sp), "-o", str(d)], env=env,
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    r = subprocess.run(["sbatch", "--parsable", str(d / "slurm.sh")], env=env,
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    job = r.stdout.strip().split(";")[0]
+    log, status = d / "runs" / "000" / "run.log", d / "runs" / "000" / "status.json"
+    deadline = time.time() + 120
+    while time.time() < deadline and not (log.exists() and "step " in log.read_text()):
+        time.sleep(0.2)
+    assert log.exists() and "step " in log.read_text(), tail(log)
+    r = subprocess.run(["scancel", "--signal=TERM", "--batch", job], env=env,
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    deadline = time.time() + 120
+    while time.time() < deadline and not (status.exists() and
+                                          json.loads(status.read_text())["exit_code"] == 75):
+        time.sleep(0.2)
+    # A requeued job waits (begin time about 2 minutes on): let it start now.
+    time.sleep(1)
+    subprocess.run(["scontrol", "update", f"JobId={job}_0", "StartTime=now"], env=env,
+                   capture_output=True)
+    deadline, st = time.time() + 300, {}
+    while time.time() < deadline:
+        if (d / "runs" / "000" / "run.done").exists():
+            st = json.loads(status.read_text())
+            break
+        time.sleep(1)
+    outs = "".join(tail(p, 10) for p in sorted((d / "runs").glob("slurm-*.out")))
+    assert st.get("exit_code") == 0 and st.get("restarted") == 1, (st, outs, tail(log, 30))
+    with h5py.File(d / "runs" / "000" / "run.h5", "r") as h:
+        codes = [int(h["provenance"][k].attrs["exit_status"]) for k in sorted(h["provenance"])
+                 if h["provenance"][k].attrs["tool"] == "pd-solve"]
+    assert codes == [75, 0], codes
+    print(f"Slurm: SIGTERM to the batch script -> exit 75, requeued, restarted -> exit 0 "
+          f"({st['attempts']} attempts, {st['wall_seconds']:.1f} s)")

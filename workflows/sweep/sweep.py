@@ -236,8 +236,9 @@ def run(a):
     def forward(sig, _frame):  # pass SIGTERM/SIGUSR1 on to pd-solve (or srun / mpirun)
         stop[0] = sig
         if child[0] is not None and child[0].poll() is None:
-            child[0].send_signal(sig if sig != signal.SIGTERM or a.launcher != "mpirun"
-                                 else signal.SIGUSR1)  # mpirun kills on TERM, passes on USR1
+            # mpirun and srun end their job on SIGTERM (srun: "forcing job termination", then
+            # SIGKILL) but pass SIGUSR1 on to the ranks: pd-solve treats both alike.
+            child[0].send_signal(signal.SIGUSR1 if a.launcher else sig)
     signal.signal(signal.SIGTERM, forward)
     signal.signal(signal.SIGUSR1, forward)
 
@@ -253,6 +254,7 @@ def run(a):
         return rc, last_error(err) or (f"{what} exit {rc}" if rc else "")
 
     t0 = time.time()
+    launcher0 = a.launcher
     restart = has_checkpoint(h5)
     rc, msg = 0, ""
     if not restart:
@@ -262,8 +264,9 @@ def run(a):
         if rc == 0 and ranks > 1:
             rc, msg = step([os.path.join(b, "pd-partition"), h5, "-n", str(ranks), "-q"],
                            "pd-partition")
+    a.launcher = ""  # pd-pack and pd-partition run without a launcher
     if rc == 0 and not stop[0]:
-        launcher = a.launcher or ("mpirun" if ranks > 1 else "")
+        launcher = launcher0 or ("mpirun" if ranks > 1 else "")
         mpi = os.environ.get("PD_SRUN_MPI", "pmix")
         pre = {"srun": ["srun", *([f"--mpi={mpi}"] if mpi else [])], "mpirun": ["mpirun", "--oversubscribe", "-np", str(ranks)],
                "": []}[launcher]
