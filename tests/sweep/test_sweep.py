@@ -124,3 +124,31 @@ def test_sigterm_then_make_restarts(tmp_path):
         codes = [int(h["provenance"][k].attrs["exit_status"]) for k in sorted(h["provenance"])
                  if h["provenance"][k].attrs["tool"] == "pd-solve"]
     assert codes == [75, 0]
+
+
+def test_csv_list_grain_on_wall_and_unknown_path(tmp_path):
+    """Parameter sets from a CSV file (header: the paths; values JSON); the restitution of a
+    disc against a wall (along the wall normal) and the peak wall reaction are gathered; a path
+    that does not exist stops expand, naming the closest key."""
+    (tmp_path / "sets.csv").write_text("contact.restitution,solver.final_time\n0.6,8e-4\n")
+    spec = {"base": os.path.join(HERE, "disc_on_wall.json"), "list": "sets.csv"}
+    sp = tmp_path / "s.json"
+    sp.write_text(json.dumps(spec))
+    d = tmp_path / "sw"
+    r = sweep("expand", sp, "-o", d)
+    assert r.returncode == 0, r.stderr
+    assert json.loads((d / "runs" / "000" / "params.json").read_text()) == \
+        {"contact.restitution": 0.6, "solver.final_time": 8e-4}
+    r = subprocess.run(["make", "-C", str(d)], env=ENV, capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert sweep("gather", d).returncode == 0
+    row = list(csv.DictReader(open(d / "results.csv")))[0]
+    print(f"disc on wall: restitution asked 0.6, measured {float(row['restitution']):.4f}, "
+          f"peak wall reaction {float(row['peak_wall_reaction']):.3g} N")
+    assert row["exit_status"] == "0" and abs(float(row["restitution"]) / 0.6 - 1) < 0.05
+    assert float(row["peak_wall_reaction"]) > 0
+
+    spec["list"] = [{"contact.restitution": 0.5, "solver.finaltime": 1e-3}]
+    sp.write_text(json.dumps(spec))
+    r = sweep("expand", sp, "-o", tmp_path / "bad")
+    assert r.returncode != 0 and "did you mean 'solver.final_time'" in r.stderr, r.stderr
