@@ -258,8 +258,11 @@ def run(a):
     restart = has_checkpoint(h5)
     rc, msg = 0, ""
     if not restart:
-        tmp = h5  # pd-pack writes under a temporary name and renames
-        rc, msg = step([os.path.join(b, "pd-pack"), conf["base"], *set_args(params), "-o", tmp,
+        # A fresh start: a file left without a checkpoint is packed anew (never a fresh
+        # pd-solve on a file that has frames).
+        if os.path.exists(h5):
+            os.remove(h5)
+        rc, msg = step([os.path.join(b, "pd-pack"), conf["base"], *set_args(params), "-o", h5,
                         "-q"], "pd-pack")
         if rc == 0 and ranks > 1:
             rc, msg = step([os.path.join(b, "pd-partition"), h5, "-n", str(ranks), "-q"],
