@@ -2,7 +2,16 @@
 # SPDX-License-Identifier: MIT
 # Installs the Debian 12 packages pdgrain needs, only those missing. Idempotent; silent when
 # everything is there; runs `apt-get update` only when something is missing.
+# `install-deps.sh --slurm` also installs Slurm and munge (slurm-wlm: slurmctld, slurmd, sbatch)
+# for the single-node Slurm test of workflows/sweep (tests/slurm); the daemons are not started.
 set -euo pipefail
+with_slurm=0
+for a in "$@"; do
+  case "$a" in
+    --slurm) with_slurm=1 ;;
+    *) echo "usage: $0 [--slurm]" >&2; exit 2 ;;
+  esac
+done
 packages=(
   build-essential cmake ninja-build git pkg-config
   libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools
@@ -13,6 +22,9 @@ packages=(
   libyaml-cpp-dev python3-jsonschema
   paraview
 )
+if [ "$with_slurm" = 1 ]; then
+  packages+=(slurm-wlm munge)
+fi
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -57,6 +57,7 @@ int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions
     int code = exit_ok;
     try {
         body(ctx);
+        code = ctx.exit_code;
     } catch (const InputError& e) {
         code = exit_input;
         report(ctx, e);

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // run_tool(): the one startup of every pd-* executable. It opens the MPI session, builds the
 // Context (log, ranks, threads, provenance) and maps exceptions to exit codes:
-// 0 ok, 2 bad input, 3 numerical failure, 4 internal error (CLI11 usage errors keep CLI11's codes).
+// 0 ok, 2 bad input, 3 numerical failure, 4 internal error, 75 stopped by a signal with a
+// checkpoint to restart from (CLI11 usage errors keep CLI11's codes).
 #pragma once
 
 #include "core/log.hpp"
@@ -16,7 +17,15 @@ class App;
 
 namespace pd {
 
-enum ExitCode : int { exit_ok = 0, exit_input = 2, exit_numerical = 3, exit_internal = 4 };
+enum ExitCode : int {
+    exit_ok = 0,
+    exit_input = 2,
+    exit_numerical = 3,
+    exit_internal = 4,
+    /// Stopped early on request (SIGTERM/SIGUSR1) after writing a checkpoint: continue with
+    /// --restart. 75 is EX_TEMPFAIL of sysexits.h ("try again later").
+    exit_preempted = 75
+};
 
 /// Options every tool shares.
 struct CommonOptions {
@@ -33,6 +42,8 @@ struct RunInfo {
     std::string start_time; ///< ISO 8601, UTC
     int mpi_ranks = 1;
     int threads = 1;
+    /// pd-pack --set: the scene overrides as a JSON object (path -> value); empty if none.
+    std::string overrides;
 };
 
 /// Per-run context handed to the pipeline function.
@@ -47,6 +58,9 @@ struct Context {
     /// Set by a step whose error every rank raised alike: the ranks then exit together with
     /// the error's code; otherwise a failing rank aborts them all (MPI_Abort).
     bool errors_collective = false;
+    /// The exit code of a body that returns normally (exit_ok, or exit_preempted); every rank
+    /// sets the same.
+    int exit_code = exit_ok;
 };
 
 /// Adds --quiet, -v/--verbose and --version to a CLI11 app.

@@ -3,10 +3,12 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "pipeline/overrides.hpp"
 #include "pipeline/peridem_import.hpp"
 #include "pipeline/scene.hpp"
 #include "store/model_io.hpp"
 #include "store/provenance.hpp"
+#include "store/schema.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -98,6 +100,15 @@ void pack(const PackOptions& opt, Context& ctx) {
         text = ss.str();
         source = opt.scene;
     }
+    if (!opt.sets.empty() || opt.print_scene) { // --set, --print-scene: plain resolved JSON
+        auto r = apply_overrides(text, source, opt.sets);
+        text = std::move(r.scene);
+        ctx.run.overrides = std::move(r.overrides);
+        if (opt.print_scene) {
+            std::fputs((text + "\n").c_str(), stdout);
+            return;
+        }
+    }
     if (!opt.write_scene.empty()) {
         std::ofstream out(opt.write_scene);
         if (!(out << text))
@@ -112,6 +123,8 @@ void pack(const PackOptions& opt, Context& ctx) {
         {
             h5::File f(tmp, h5::Mode::create_truncate);
             store::write_model(f, m);
+            if (!ctx.run.overrides.empty())
+                f.write_string(store::path::parameters_overrides, ctx.run.overrides);
             store::append_provenance(f, ctx.run, 0);
         }
         std::filesystem::rename(tmp, opt.output);

@@ -7,15 +7,18 @@
 #include "core/tool.hpp"
 
 #include <string>
+#include <vector>
 
 namespace pd::pipeline {
 
 struct PackOptions {
-    std::string scene;        ///< JSON scene path (or empty with from_peridem)
-    std::string from_peridem; ///< PeriDEM 0.2.x YAML deck to import instead of a scene
-    std::string write_scene;  ///< if set, the scene JSON actually built is written here
-    std::string output;       ///< pd-file to write
-    std::string preview;      ///< if set, a PNG of the scene (workflows/preview/preview.py)
+    std::string scene;             ///< JSON scene path (or empty with from_peridem)
+    std::string from_peridem;      ///< PeriDEM 0.2.x YAML deck to import instead of a scene
+    std::string write_scene;       ///< if set, the scene JSON actually built is written here
+    std::string output;            ///< pd-file to write
+    std::string preview;           ///< if set, a PNG of the scene (workflows/preview/preview.py)
+    std::vector<std::string> sets; ///< --set PATH=VALUE scene overrides (pipeline/overrides.hpp)
+    bool print_scene = false;      ///< print the resolved scene (plain JSON) to stdout, no file
     CommonOptions common;
 };
 

@@ -14,6 +14,7 @@
 #include "store/schema.hpp"
 
 #include <cmath>
+#include <csignal>
 #include <limits>
 #include <map>
 #include <memory>
@@ -23,6 +24,42 @@
 namespace pd::pipeline {
 
 namespace {
+
+/// Pre-emption: SIGTERM or SIGUSR1 (Slurm before the wall-time limit, or on pre-emption) asks the
+/// run to stop. The step loop finishes the current step, writes a checkpoint and exits with
+/// exit_preempted (75); under MPI the ranks agree on the step by an Allreduce of the flag.
+volatile std::sig_atomic_t stop_signal = 0;
+
+extern "C" void on_stop_signal(int sig) {
+    stop_signal = sig;
+}
+
+/// Installs the handlers for the life of a solve; the previous ones come back after it.
+class StopSignals {
+  public:
+    StopSignals() {
+        stop_signal = 0;
+        struct sigaction sa {};
+        sa.sa_handler = on_stop_signal;
+        sigemptyset(&sa.sa_mask);
+        sa.sa_flags = SA_RESTART;
+        sigaction(SIGTERM, &sa, &old_term_);
+        sigaction(SIGUSR1, &sa, &old_usr1_);
+    }
+    ~StopSignals() {
+        sigaction(SIGTERM, &old_term_, nullptr);
+        sigaction(SIGUSR1, &old_usr1_, nullptr);
+    }
+    StopSignals(const StopSignals&) = delete;
+    StopSignals& operator=(const StopSignals&) = delete;
+
+  private:
+    struct sigaction old_term_ {};
+    struct sigaction old_usr1_ {};
+};
+
+/// Steps between the ranks' agreement on a stop request under MPI (one Allreduce of an int).
+constexpr std::int64_t stop_check_every = 10;
 
 void write_frame(store::FrameWriter& fw, const solver::Solver& s, std::vector<double>& damage,
                  std::vector<double>& force) {
@@ -151,6 +188,7 @@ std::unique_ptr<solver::Domain> rebalance(const model::Model& m, solver::Solver&
 
 void solve(const SolveOptions& opt, Context& ctx) {
     const double wall0 = wall_seconds();
+    const StopSignals stop_signals;
     const bool par = ctx.size > 1;
     MPI_Comm comm = MPI_COMM_WORLD;
     // Phase 1, every rank: read the model (and the checkpoint) read-only. Up to phase 2 every
@@ -316,6 +354,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
     // rank; any other error on one rank aborts them all rather than leaving them waiting.
     bool agreed = false;
     std::size_t nframes = 0;
+    int stopped_by = 0;           // the signal that stopped the run early
+    std::int64_t stopped_at = -1; // the step it stopped after (checkpointed)
     try {
         std::vector<double> damage, force;
         if (ck) {
@@ -506,11 +546,26 @@ void solve(const SolveOptions& opt, Context& ctx) {
                     imbalance = mean > 0 ? s.domain().max(mine) / mean : 1.0;
                 }
             }
-            if (n % ckpt_every == 0 || n == last) {
+            // A stop request (SIGTERM, SIGUSR1): every rank stops after the same step. Serial runs
+            // look at every step, MPI runs every stop_check_every steps (collective).
+            bool stop = false;
+            if (n < last && (!par || n % stop_check_every == 0)) {
+                int sig = static_cast<int>(stop_signal);
+                if (par)
+                    MPI_Allreduce(MPI_IN_PLACE, &sig, 1, MPI_INT, MPI_MAX, comm);
+                if (sig != 0) {
+                    stop = true;
+                    stopped_by = sig;
+                    stopped_at = n;
+                }
+            }
+            if (n % ckpt_every == 0 || n == last || stop) {
                 ScopedTimer t(timers, t_ck);
                 obs.flush();
                 checkpoint();
             }
+            if (stop)
+                break;
             if (opt.rebalance && par && n % ckpt_every == 0 && n < last) {
                 if (auto next = rebalance(m, s, dom->owner_map(), ctx, opt.file)) {
                     frames.set_runs(next->runs());
@@ -544,10 +599,21 @@ void solve(const SolveOptions& opt, Context& ctx) {
     f.reset(); // collective close before rank 0 records provenance
     Timers& timers = s.timers();
     const double wall = wall_seconds() - wall0;
+    const std::int64_t end = stopped_at >= 0 ? stopped_at : last;
+    if (stopped_at >= 0) {
+        // Every rank agreed on the step: the exit is collective, with its own code.
+        ctx.errors_collective = true;
+        ctx.exit_code = exit_preempted;
+        if (ctx.rank == 0)
+            ctx.log.warn("{}: stopped by {} after step {} of {} (t = {:.6g} s): checkpoint "
+                         "written; continue with pd-solve --restart (exit {})",
+                         opt.file, stopped_by == SIGUSR1 ? "SIGUSR1" : "SIGTERM", stopped_at, total,
+                         s.state().time, static_cast<int>(exit_preempted));
+    }
     ctx.log.info("done: steps {} to {}, {} frames in the file, {} contact-list rebuilds, {:.3g} "
                  "node-steps/s",
-                 first, last, nframes, s.contact().rebuilds(),
-                 static_cast<double>(m.nodes.num()) * static_cast<double>(last - first) / wall);
+                 first, end, nframes, s.contact().rebuilds(),
+                 static_cast<double>(m.nodes.num()) * static_cast<double>(end - first) / wall);
     if (par) {
         // Load balance over the run: time in force evaluation and integration per rank.
         const double busy = busy_seconds(timers);

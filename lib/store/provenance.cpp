@@ -24,6 +24,8 @@ void append_provenance(h5::File& f, const RunInfo& run, int exit_status) {
     f.set_attr(g, "mpi_ranks", static_cast<std::int32_t>(run.mpi_ranks));
     f.set_attr(g, "threads", static_cast<std::int32_t>(run.threads));
     f.set_attr(g, "exit_status", static_cast<std::int32_t>(exit_status));
+    if (!run.overrides.empty())
+        f.set_attr(g, "overrides", run.overrides);
     f.flush();
 }
 

@@ -22,6 +22,7 @@ namespace path {
 // root attributes: schema, schema_version, units, dimension, planar, thickness, title
 inline constexpr const char* h5md = "/h5md";
 inline constexpr const char* parameters_scene = "/parameters/scene";
+inline constexpr const char* parameters_overrides = "/parameters/overrides"; // pd-pack --set
 inline constexpr const char* materials = "/materials";
 inline constexpr const char* reference_meshes = "/reference_meshes";
 inline constexpr const char* bodies = "/bodies";

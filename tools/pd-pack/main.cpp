@@ -17,13 +17,26 @@ int main(int argc, char** argv) {
                      ->check(CLI::ExistingFile);
     scene->excludes(deck);
     app.add_option("--write-scene", opt.write_scene, "also write the scene JSON that is built");
-    app.add_option("-o,--output", opt.output, "pd-file to write (HDF5)")->required();
+    auto* out = app.add_option("-o,--output", opt.output, "pd-file to write (HDF5)");
+    app.add_option("--set", opt.sets,
+                   "override a scene value: PATH=VALUE, PATH dotted (contact.restitution, "
+                   "particles.0.velocity) or a JSON pointer (/contact/restitution), VALUE JSON "
+                   "(0.5, [0,-1], \"pmb\"); repeatable; recorded in /parameters and /provenance")
+        ->allow_extra_args(false);
+    auto* print = app.add_flag("--print-scene", opt.print_scene,
+                               "print the resolved scene (overrides applied, comments removed) "
+                               "as plain JSON to stdout and exit");
+    out->excludes(print);
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
     pd::add_common_flags(app, opt.common);
     try {
         app.parse(argc, argv);
         if (opt.scene.empty() && opt.from_peridem.empty())
             throw CLI::RequiredError("give a SCENE file or --from-peridem DECK");
+        if (opt.output.empty() && !opt.print_scene)
+            throw CLI::RequiredError("--output");
+        if (opt.print_scene)
+            opt.common.quiet = true; // stdout carries the JSON alone
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     }

@@ -26,6 +26,11 @@ int main(int argc, char** argv) {
                    "the energy in play (default 0.05; 0: off)")
         ->check(CLI::Range(0.0, 1e6));
     app.add_option("--progress-every", opt.progress_seconds, "seconds between progress lines");
+    app.footer("On SIGTERM or SIGUSR1 (Slurm: before the wall-time limit, on pre-emption) pd-solve "
+               "finishes the current step, writes a checkpoint, records exit status 75 in "
+               "/provenance and exits with 75; continue with --restart (bit for bit).\n"
+               "Exit codes: 0 ok, 2 bad input, 3 numerical failure, 4 internal error, 75 stopped "
+               "by a signal with a checkpoint.");
     pd::add_common_flags(app, opt.common);
     CLI11_PARSE(app, argc, argv);
     return pd::run_tool("pd-solve", argc, argv, opt.common,

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/overrides.hpp"
+
+#include "core/errors.hpp"
+#include "pipeline/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+
+namespace pd::pipeline {
+
+namespace {
+
+using json = nlohmann::json;
+
+/// "a.b[2].c" -> {a, b, 2, c}; "/a/b/2/c" -> the same (JSON pointer, ~0 ~1 unescaped).
+std::vector<std::string> split_path(const std::string& path) {
+    std::vector<std::string> parts;
+    if (!path.empty() && path[0] == '/') {
+        std::string cur;
+        for (std::size_t i = 1; i <= path.size(); ++i) {
+            if (i == path.size() || path[i] == '/') {
+                std::string k;
+                for (std::size_t j = 0; j < cur.size(); ++j) {
+                    if (cur[j] == '~' && j + 1 < cur.size() &&
+                        (cur[j + 1] == '0' || cur[j + 1] == '1')) {
+                        k += cur[j + 1] == '0' ? '~' : '/';
+                        ++j;
+                    } else {
+                        k += cur[j];
+                    }
+                }
+                parts.push_back(k);
+                cur.clear();
+            } else {
+                cur += path[i];
+            }
+        }
+        return parts;
+    }
+    std::string cur;
+    auto flush = [&] {
+        if (!cur.empty())
+            parts.push_back(cur);
+        cur.clear();
+    };
+    for (char c : path) {
+        if (c == '.' || c == '[' || c == ']')
+            flush();
+        else
+            cur += c;
+    }
+    flush();
+    return parts;
+}
+
+bool is_index(const std::string& s) {
+    return !s.empty() &&
+           std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+/// The key of object `o` closest to `key`, and its distance.
+std::pair<std::string, std::size_t> closest(const json& o, const std::string& key) {
+    std::string best;
+    std::size_t bd = std::string::npos;
+    for (auto it = o.begin(); it != o.end(); ++it) {
+        const auto d = edit_distance(key, it.key());
+        if (d < bd) {
+            bd = d;
+            best = it.key();
+        }
+    }
+    return {best, bd};
+}
+
+std::string keys_of(const json& o) {
+    std::string s;
+    for (auto it = o.begin(); it != o.end(); ++it)
+        s += (s.empty() ? "" : ", ") + it.key();
+    return s;
+}
+
+} // namespace
+
+Resolved apply_overrides(const std::string& text, const std::string& source,
+                         const std::vector<std::string>& sets) {
+    json root;
+    try {
+        root = json::parse(text, nullptr, true, /*ignore_comments=*/true);
+    } catch (const json::parse_error& e) {
+        throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
+    }
+    json record = json::object();
+    for (const auto& set : sets) {
+        const auto eq = set.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw InputError(fmt::format("--set '{}': expected PATH=VALUE (e.g. "
+                                         "contact.restitution=0.5)",
+                                         set));
+        const std::string path = set.substr(0, eq), raw = set.substr(eq + 1);
+        json value;
+        try {
+            value = json::parse(raw);
+        } catch (const json::parse_error&) {
+            value = raw; // a bare word: a string
+        }
+        const auto parts = split_path(path);
+        if (parts.empty())
+            throw ConfigError(path, "--set: empty path");
+        json* node = &root;
+        std::string where;
+        for (std::size_t k = 0; k < parts.size(); ++k) {
+            const auto& p = parts[k];
+            const bool leaf = k + 1 == parts.size();
+            const std::string here = where.empty() ? p : where + "." + p;
+            if (node->is_array()) {
+                if (!is_index(p) || std::stoull(p) >= node->size())
+                    throw ConfigError(here, fmt::format("--set: {} has {} entries (indices 0 to "
+                                                        "{})",
+                                                        where, node->size(),
+                                                        static_cast<long long>(node->size()) - 1));
+                node = &(*node)[std::stoull(p)];
+            } else if (node->is_object()) {
+                if (!node->contains(p)) {
+                    const auto [best, d] = closest(*node, p);
+                    // A new leaf key is allowed (pd-pack checks it against the scene keys);
+                    // a near miss of an existing key is a typo.
+                    if (!leaf || (d <= 2 && !best.empty()))
+                        throw ConfigError(
+                            here, best.empty()
+                                      ? fmt::format("--set: no such key ({} is empty)",
+                                                    where.empty() ? "the scene" : where)
+                                      : fmt::format(
+                                            "--set: no such key in the scene; did you mean "
+                                            "'{}'?{}",
+                                            where.empty() ? best : where + "." + best,
+                                            d > 2 ? fmt::format(" (keys here: {})", keys_of(*node))
+                                                  : std::string{}));
+                }
+                node = &(*node)[p];
+            } else {
+                throw ConfigError(here, fmt::format("--set: {} is a {}, not an object or array",
+                                                    where, node->type_name()));
+            }
+            where = here;
+        }
+        *node = value;
+        record[path] = value;
+    }
+    Resolved r;
+    r.scene = root.dump(2);
+    if (!sets.empty())
+        r.overrides = record.dump();
+    return r;
+}
+
+} // namespace pd::pipeline
