@@ -3,12 +3,16 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
-.PHONY: all deps configure build test demo bench format format-check clean
+.PHONY: all deps deps-test configure build test demo bench format format-check clean
 
 all: build
 
 deps:
 	@bash tools/install-deps.sh
+
+# The tests also need Slurm and munge (the single-node Slurm test of workflows/sweep).
+deps-test:
+	@bash tools/install-deps.sh --slurm
 
 $(BUILD)/build.ninja: | deps
 	@mkdir -p $(BUILD)
@@ -20,7 +24,7 @@ configure: deps $(BUILD)/build.ninja
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
-test: build
+test: deps-test build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 demo: build
