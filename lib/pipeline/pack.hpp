@@ -16,6 +16,7 @@ struct PackOptions {
     std::string write_scene;  ///< if set, the scene JSON actually built is written here
     std::string output;       ///< pd-file to write
     std::string preview;      ///< if set, a PNG of the scene (workflows/preview/preview.py)
+    double max_nodes = 2e7;   ///< refuse scenes estimated above this many nodes (before meshing)
     CommonOptions common;
 };
 

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
     app.add_option("--write-scene", opt.write_scene, "also write the scene JSON that is built");
     app.add_option("-o,--output", opt.output, "pd-file to write (HDF5)")->required();
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
+    app.add_option("--max-nodes", opt.max_nodes,
+                   "refuse a scene estimated (before meshing) above this many nodes (2e7)");
     pd::add_common_flags(app, opt.common);
     try {
         app.parse(argc, argv);
