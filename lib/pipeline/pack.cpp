@@ -120,7 +120,7 @@ void pack(const PackOptions& opt, Context& ctx) {
             throw InputError(fmt::format("{}: cannot write the scene", opt.write_scene));
         ctx.log.info("wrote the scene {}", opt.write_scene);
     }
-    model::Model m = build_scene(text, source, ctx.log);
+    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes);
     warn_sparse_families(m, ctx.log);
 
     const std::string tmp = fmt::format("{}.tmp.{}", opt.output, ::getpid());
