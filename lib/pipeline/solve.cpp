@@ -172,7 +172,7 @@ void refuse_existing_results(const h5::File& rf, const std::string& file) {
     std::string what;
     if (rf.exists(std::string(store::path::particles) + "/position/value")) {
         const store::FrameReader fr(rf);
-        what = fmt::format("{} frames", fr.num_frames());
+        what = fmt::format("{} frame{}", fr.num_frames(), fr.num_frames() == 1 ? "" : "s");
         if (fr.num_frames() > 0)
             what += fmt::format(" (up to step {}, t = {:.6g} s)", fr.step(fr.num_frames() - 1),
                                 fr.time(fr.num_frames() - 1));
