@@ -426,8 +426,23 @@ void report_horizons(const model::Model& m, const Log& log) {
 
 } // namespace
 
+namespace {
+model::Model build_scene_impl(const std::string& source_text, const std::string& source,
+                              const Log& log, double max_nodes);
+} // namespace
+
 model::Model build_scene(const std::string& source_text, const std::string& source, const Log& log,
                          double max_nodes) {
+    try {
+        return build_scene_impl(source_text, source, log, max_nodes);
+    } catch (const json::exception& e) { // a value of the wrong JSON type read without a check
+        throw InputError(fmt::format("{}: {}", source, e.what()));
+    }
+}
+
+namespace {
+model::Model build_scene_impl(const std::string& source_text, const std::string& source,
+                              const Log& log, double max_nodes) {
     json root;
     try {
         root = json::parse(source_text, nullptr, true, /*ignore_comments=*/true);
@@ -1307,5 +1322,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     m.check_consistency();
     return m;
 }
+
+} // namespace
 
 } // namespace pd::pipeline

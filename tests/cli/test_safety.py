@@ -383,6 +383,22 @@ def test_pack_count_1e9(bin_dir, tmp_path):
     assert not (tmp_path / "out.h5").exists()
 
 
+@pytest.mark.parametrize("counts, culprit", [(["a", 2], "type must be number"), ([-1, 2], "counts")])
+def test_pack_lattice_counts_bad(bin_dir, tmp_path, counts, culprit):
+    gen = {
+        "generate": "lattice",
+        "origin": [0, 0],
+        "counts": counts,
+        "spacing": [3e-3, 3e-3],
+        "radius": [1e-3, 1e-3],
+        "material": "m1",
+    }
+    scene = write_scene(tmp_path / "scene.json", particles=[gen])
+    r = run(bin_dir / "pd-pack", scene, "-o", tmp_path / "out.h5", timeout=60)
+    assert_refused(r, culprit)
+    assert not (tmp_path / "out.h5").exists()
+
+
 def test_pack_max_nodes_limit_and_raise(bin_dir, tmp_path):
     scene = write_scene(tmp_path / "scene.json")
     r = run(bin_dir / "pd-pack", scene, "-o", tmp_path / "out.h5", "--max-nodes", 100)
