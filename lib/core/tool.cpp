@@ -9,6 +9,7 @@
 
 #include <ctime>
 #include <exception>
+#include <filesystem>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -29,6 +30,33 @@ std::string utc_now() {
     char buf[32];
     std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
     return buf;
+}
+
+bool same_path(const std::string& a, const std::string& b) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) {
+        const bool eq = fs::equivalent(a, b, ec);
+        if (!ec)
+            return eq;
+    }
+    const auto ca = fs::weakly_canonical(fs::absolute(a, ec), ec);
+    const auto cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
+    return ca == cb;
+}
+
+void check_output_file(const std::string& option, const std::string& path,
+                       const std::vector<std::pair<std::string, std::string>>& inputs) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(path, ec))
+        throw InputError(
+            fmt::format("{} {}: is a directory; give the name of a file to write", option, path));
+    for (const auto& [what, in] : inputs)
+        if (!in.empty() && same_path(path, in))
+            throw InputError(fmt::format("{} {}: is the same file as the {} {}; it would be "
+                                         "overwritten; give another name",
+                                         option, path, what, in));
 }
 
 namespace {

@@ -69,6 +69,14 @@ void add_common_flags(CLI::App& app, CommonOptions& opt);
 /// ISO 8601 UTC time of now ("2026-11-23T13:38:05Z").
 std::string utc_now();
 
+/// True if `a` and `b` name the same file (an existing one, or the same path once resolved).
+bool same_path(const std::string& a, const std::string& b);
+
+/// Refuses (InputError, exit 2) an output file `path` given as `option` that is a directory or
+/// names one of `inputs` ({option or role, path}): checked before anything is written.
+void check_output_file(const std::string& option, const std::string& path,
+                       const std::vector<std::pair<std::string, std::string>>& inputs);
+
 /// Runs `body` inside the MPI session; returns the exit code.
 int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions& opt,
              const std::function<void(Context&)>& body);

@@ -87,6 +87,22 @@ void warn_sparse_families(const model::Model& m, const Log& log) {
 } // namespace
 
 void pack(const PackOptions& opt, Context& ctx) {
+    // Outputs never replace an input or each other, and are files, not directories.
+    check_output_file("-o", opt.output,
+                      {{"scene", opt.scene}, {"--from-peridem deck", opt.from_peridem}});
+    if (!opt.write_scene.empty())
+        check_output_file("--write-scene", opt.write_scene,
+                          {{"scene", opt.scene},
+                           {"--from-peridem deck", opt.from_peridem},
+                           {"-o file", opt.output}});
+    if (!opt.preview.empty())
+        check_output_file("--preview", opt.preview,
+                          {{"scene", opt.scene},
+                           {"--from-peridem deck", opt.from_peridem},
+                           {"-o file", opt.output},
+                           {"--write-scene file", opt.write_scene}});
+    if (!(opt.max_nodes >= 1))
+        throw InputError(fmt::format("--max-nodes {}: must be at least 1", opt.max_nodes));
     std::string text, source;
     if (!opt.from_peridem.empty()) {
         text = peridem_to_scene(opt.from_peridem, ctx.log);
@@ -115,7 +131,7 @@ void pack(const PackOptions& opt, Context& ctx) {
             throw InputError(fmt::format("{}: cannot write the scene", opt.write_scene));
         ctx.log.info("wrote the scene {}", opt.write_scene);
     }
-    model::Model m = build_scene(text, source, ctx.log);
+    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes);
     warn_sparse_families(m, ctx.log);
 
     const std::string tmp = fmt::format("{}.tmp.{}", opt.output, ::getpid());

@@ -19,6 +19,7 @@ struct PackOptions {
     std::string preview;           ///< if set, a PNG of the scene (workflows/preview/preview.py)
     std::vector<std::string> sets; ///< --set PATH=VALUE scene overrides (pipeline/overrides.hpp)
     bool print_scene = false;      ///< print the resolved scene (plain JSON) to stdout, no file
+    double max_nodes = 2e7; ///< refuse scenes estimated above this many nodes (before meshing)
     CommonOptions common;
 };
 

@@ -9,6 +9,9 @@
 #include "store/provenance.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <unistd.h>
 
 namespace pd::pipeline {
 
@@ -69,10 +72,18 @@ std::vector<std::int32_t> node_owner(const model::Model& m, const store::Partiti
 }
 
 void partition(const PartitionOptions& opt, Context& ctx) {
+    if (opt.num_parts < 1)
+        throw InputError(
+            fmt::format("-n {}: the number of parts must be at least 1", opt.num_parts));
+    if (::access(opt.file.c_str(), W_OK) != 0)
+        throw InputError(fmt::format("{}: cannot write to this file ({}): pd-partition stores "
+                                     "/partition in it",
+                                     opt.file, std::strerror(errno)));
     auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
     const model::Model m = store::read_model(*f); // refuses a file it cannot read, untouched
-    ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
     const auto p = make_partition(m, opt.num_parts, opt.by, opt.file);
+    // Recorded from here: a refused run leaves the file as it was.
+    ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
     store::write_partition(*f, p);
     const std::size_t work = p.owner.size();
     ctx.log.info("partitioned {} {} of {} into {} parts ({}, by {}): edge cut {}, imbalance "

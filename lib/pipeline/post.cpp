@@ -20,10 +20,13 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <system_error>
+#include <unistd.h>
 #include <vector>
 
 namespace pd::pipeline {
@@ -86,6 +89,17 @@ void post(const PostOptions& opt, Context& ctx) {
     const fs::path out_dir =
         opt.out_dir.empty() ? file.parent_path() / "post" : fs::path(opt.out_dir);
     const std::string stem = file.stem().string();
+    {
+        std::error_code ec;
+        if (same_path(out_dir.string(), opt.file))
+            throw InputError(fmt::format("-o {}: is the input file; give a directory for the "
+                                         "outputs",
+                                         out_dir.string()));
+        if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
+            throw InputError(fmt::format("-o {}: exists and is not a directory; give a directory "
+                                         "for the outputs",
+                                         out_dir.string()));
+    }
     std::size_t frames = 0, rows = 0;
     std::string pvd;
     std::vector<std::string> made; // "<what> -> <path>" of the other products
@@ -94,10 +108,21 @@ void post(const PostOptions& opt, Context& ctx) {
         store::check_version(f);
         // From here on the run is recorded in the file, failed or not. The read handle above is
         // closed before run_tool calls this (post() has returned or thrown by then).
-        ctx.on_exit = [&opt, &ctx](int code) {
-            h5::File w(opt.file, h5::Mode::read_write);
-            store::append_provenance(w, ctx.run, code);
-        };
+        // A read-only file still gets its outputs; only the record is missing (warned).
+        if (::access(opt.file.c_str(), W_OK) != 0)
+            ctx.log.warn("{}: read-only ({}): the outputs are written, but this run cannot be "
+                         "recorded in /provenance",
+                         opt.file, std::strerror(errno));
+        else
+            ctx.on_exit = [&opt, &ctx](int code) {
+                try {
+                    h5::File w(opt.file, h5::Mode::read_write);
+                    store::append_provenance(w, ctx.run, code);
+                } catch (const std::exception& e) {
+                    ctx.log.warn("{}: this run could not be recorded in /provenance: {}", opt.file,
+                                 e.what());
+                }
+            };
         const auto model = store::read_model(f);
         const auto progress = make_progress(ctx, opt.progress_seconds);
 

@@ -212,10 +212,17 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const 
             return geometry::Shape::square(positive(o, w, "radius", 0, true));
         if (type == "hexagon")
             return geometry::Shape::hexagon(positive(o, w, "radius", 0, true));
-        if (type == "regular_polygon")
-            return geometry::Shape::regular_polygon(
-                static_cast<int>(positive(o, w, "sides", 0, true)),
-                positive(o, w, "radius", 0, true), number(o, w, "phase", 0));
+        if (type == "regular_polygon") {
+            const double sides = positive(o, w, "sides", 0, true);
+            if (sides != std::floor(sides) || sides < 3 || sides > 10000)
+                throw ConfigError(join(w, "sides"),
+                                  fmt::format("{:g}: must be a whole number from 3 to 10000 (more "
+                                              "sides than that: use a circle)",
+                                              sides));
+            return geometry::Shape::regular_polygon(static_cast<int>(sides),
+                                                    positive(o, w, "radius", 0, true),
+                                                    number(o, w, "phase", 0));
+        }
         if (type == "rectangle") {
             if (o.contains("corners")) {
                 const auto& c = o["corners"];
@@ -419,12 +426,29 @@ void report_horizons(const model::Model& m, const Log& log) {
 
 } // namespace
 
-model::Model build_scene(const std::string& source_text, const std::string& source,
-                         const Log& log) {
+namespace {
+model::Model build_scene_impl(const std::string& source_text, const std::string& source,
+                              const Log& log, double max_nodes);
+} // namespace
+
+model::Model build_scene(const std::string& source_text, const std::string& source, const Log& log,
+                         double max_nodes) {
+    try {
+        return build_scene_impl(source_text, source, log, max_nodes);
+    } catch (const json::exception& e) { // a value of the wrong JSON type read without a check
+        throw InputError(fmt::format("{}: {}", source, e.what()));
+    }
+}
+
+namespace {
+model::Model build_scene_impl(const std::string& source_text, const std::string& source,
+                              const Log& log, double max_nodes) {
     json root;
     try {
         root = json::parse(source_text, nullptr, true, /*ignore_comments=*/true);
     } catch (const json::parse_error& e) {
+        throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
+    } catch (const json::exception& e) { // out_of_range 406: a number like 1e999
         throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
     }
     check_keys(root, "",
@@ -516,6 +540,14 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
                                                                          : "plane strain / 3D",
                                nu));
         mat.youngs_modulus = E;
+        // Beyond any solid (diamond: E ~ 1.2e12 Pa, osmium 2.2e4 kg/m3): such values overflow
+        // the contact stiffness, the stable time step and the energies.
+        if (!(E <= 1e15))
+            throw ConfigError(w + (hE ? ".youngs_modulus" : ".bulk_modulus"),
+                              fmt::format("E = {:g} Pa is above 1e15 Pa", E));
+        if (mat.density > 1e6)
+            throw ConfigError(w + ".density",
+                              fmt::format("{:g} kg/m3 is above 1e6 kg/m3", mat.density));
         mat.poisson_ratio = nu_law > -2 ? nu_law : nu;
         // Fracture: Gc, or KIc with Gc = KIc^2 / E (spec 1.2).
         if (it->contains("fracture_energy") && it->contains("fracture_toughness"))
@@ -575,6 +607,30 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     if (!root.contains("particles") || !root["particles"].is_array() || root["particles"].empty())
         throw ConfigError("particles", "missing: give a list of particles or generators");
     std::vector<Instance> inst;
+    // Node estimate before anything is meshed or packed (a mesh_size far too small, a huge
+    // radius or count would run for minutes or exhaust memory): a reference shape gets about
+    // area / h^2 (volume / h^3) nodes, and each grain is an instance of its shape's mesh.
+    const bool user_disc = shapes.count("disc") > 0; // else a disc is made per particle radius
+    auto shape_nodes = [&](const std::string& name, double radius) {
+        const bool disc = name == "disc" && !user_disc;
+        if (!disc && !shapes.count(name))
+            return 0.0;
+        const ShapeSpec* sp = disc ? nullptr : &shapes.at(name);
+        if (sp && sp->method == "file")
+            return 0.0; // the file's own size
+        const double h = sp && sp->mesh_size > 0 ? sp->mesh_size : h_ref;
+        const double size = disc ? std::numbers::pi * std::pow(radius, m.dimension) *
+                                       (m.dimension == 3 ? 4.0 / 3.0 : 1.0)
+                                 : sp->shape.area_or_volume();
+        return std::max(1.0, size / std::pow(h, m.dimension));
+    };
+    auto too_many = [&](double estimate, const std::string& key, const std::string& what) {
+        if (!(estimate <= max_nodes))
+            throw ConfigError(key, fmt::format("{} is estimated at {:.3g} nodes, above the limit "
+                                               "{:.3g} (pd-pack --max-nodes): coarsen mesh_size, "
+                                               "or raise --max-nodes if the machine can hold it",
+                                               what, estimate, max_nodes));
+    };
     auto common = [&](const json& p, const std::string& w, Instance& d) {
         d.velocity = vec(p, w, "velocity", m.dimension, {0, 0, 0});
         d.fixed = boolean(p, w, "fixed", false);
@@ -635,6 +691,13 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             d.shape = text(p, w, "shape", "disc");
             d.radius = p.contains("radius") ? positive(p, w, "radius", 0) : 0.0;
             d.center = vec(p, w, "center", m.dimension, {0, 0, 0}, true);
+            for (double c : d.center)
+                if (std::abs(c) > 1e10 * h_ref)
+                    throw ConfigError(w + ".center",
+                                      fmt::format("{:g} m is more than 1e10 mesh sizes from the "
+                                                  "origin: node positions would lose their "
+                                                  "precision",
+                                                  c));
             d.orientation = number(p, w, "orientation", 0);
             common(p, w, d);
             shape_named(d.shape, w, d.radius);
@@ -654,7 +717,11 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             const auto container =
                 parse_shape(p["container"], w + ".container", m.dimension, base_dir);
             geometry::PackOptions o;
-            o.count = static_cast<std::size_t>(positive(p, w, "count", 0, true));
+            const double count = positive(p, w, "count", 0, true);
+            if (count != std::floor(count))
+                throw ConfigError(w + ".count", fmt::format("{:g}: must be a whole number", count));
+            too_many(count, w + ".count", fmt::format("{:g} grains", count));
+            o.count = static_cast<std::size_t>(count);
             if (!p.contains("radius") || !p["radius"].is_array() || p["radius"].size() != 2)
                 throw ConfigError(w + ".radius", "expected [rmin, rmax] (m)");
             o.rmin = p["radius"][0].get<double>();
@@ -662,6 +729,14 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             if (!(o.rmin > 0 && o.rmax >= o.rmin))
                 throw ConfigError(w + ".radius", "need 0 < rmin <= rmax");
             o.fractions = fractions_of(p, w, names);
+            {
+                double least = 1e300;
+                for (std::size_t q = 0; q < names.size(); ++q)
+                    if (o.fractions[q] > 0)
+                        least = std::min(least, shape_nodes(names[q], o.rmin));
+                too_many(static_cast<double>(o.count) * (least < 1e300 ? least : 1.0), w + ".count",
+                         fmt::format("{} grains of {:.3g} nodes or more each", o.count, least));
+            }
             o.gap = number(p, w, "gap", 0);
             o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
             o.random_orientation =
@@ -696,6 +771,16 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
             o.random_orientation =
                 text(p, w, "orientation", "random", {"random", "zero"}) == "random";
             o.fractions = fractions_of(p, w, names);
+            {
+                double count = 1, least = 1e300;
+                for (int d = 0; d < m.dimension; ++d)
+                    count *= static_cast<double>(o.counts[static_cast<std::size_t>(d)]);
+                for (std::size_t q = 0; q < names.size(); ++q)
+                    if (o.fractions[q] > 0)
+                        least = std::min(least, shape_nodes(names[q], o.rmin));
+                too_many(count * (least < 1e300 ? least : 1.0), w + ".counts",
+                         fmt::format("{:.3g} grains", count));
+            }
             grains = geometry::lattice(o);
         } else {
             check_keys(p, w,
@@ -728,6 +813,26 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     }
     if (inst.empty())
         throw ConfigError("particles", "no particle was placed");
+    {
+        // Each shape's mesh once, then every grain: refused before any meshing.
+        std::map<std::string, double> per_shape;
+        double total = 0;
+        for (const auto& d : inst) {
+            auto [it, fresh] = per_shape.try_emplace(d.shape, 0.0);
+            if (fresh) {
+                it->second = shape_nodes(d.shape, d.radius);
+                const bool disc = d.shape == "disc" && !user_disc;
+                too_many(it->second, disc ? d.where + ".radius" : "shapes." + d.shape,
+                         disc ? fmt::format("a disc of radius {:g} m at mesh_size {:g} m", d.radius,
+                                            h_ref)
+                              : fmt::format("shape '{}'", d.shape));
+            }
+            total += it->second;
+        }
+        too_many(total, "particles",
+                 fmt::format("the scene ({} grains; discretization.mesh_size {:g} m)", inst.size(),
+                             h_ref));
+    }
 
     // Mesh each reference shape once (spec 2.5).
     struct Ref {
@@ -1225,5 +1330,7 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
     m.check_consistency();
     return m;
 }
+
+} // namespace
 
 } // namespace pd::pipeline

@@ -13,7 +13,10 @@ namespace pd::pipeline {
 /// Parses `text` (the content of `source`, used in messages) and builds the model: meshes each
 /// reference shape once (gmsh), places instances, nodal volumes, bonds, contact table.
 /// Throws ConfigError naming the key on bad input.
-model::Model build_scene(const std::string& text, const std::string& source, const Log& log);
+/// `max_nodes`: the scene is refused (ConfigError) when its node estimate, made before meshing
+/// or packing, exceeds it (pd-pack --max-nodes).
+model::Model build_scene(const std::string& text, const std::string& source, const Log& log,
+                         double max_nodes = 2e7);
 
 /// Levenshtein distance (for "did you mean" suggestions).
 std::size_t edit_distance(const std::string& a, const std::string& b);

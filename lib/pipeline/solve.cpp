@@ -13,13 +13,16 @@
 #include "store/provenance.hpp"
 #include "store/schema.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <csignal>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <memory>
 #include <optional>
 #include <span>
+#include <unistd.h>
 
 namespace pd::pipeline {
 
@@ -184,6 +187,45 @@ std::unique_ptr<solver::Domain> rebalance(const model::Model& m, solver::Solver&
     return dom;
 }
 
+/// Command-line values: finite, in range (CLI11 only parses them).
+void check_options(const SolveOptions& opt) {
+    if (opt.max_steps_given && opt.max_steps < 1)
+        throw InputError(fmt::format("--steps {}: must be at least 1", opt.max_steps));
+    if (opt.final_time_given && !(std::isfinite(opt.final_time) && opt.final_time > 0))
+        throw InputError(
+            fmt::format("--final-time {}: must be a finite time > 0 (s)", opt.final_time));
+    if (!(std::isfinite(opt.energy_tolerance) && opt.energy_tolerance >= 0))
+        throw InputError(fmt::format("--energy-tolerance {}: must be a finite fraction >= 0",
+                                     opt.energy_tolerance));
+    if (!(opt.progress_seconds >= 0))
+        throw InputError(
+            fmt::format("--progress-every {}: must be >= 0 (s)", opt.progress_seconds));
+    if (opt.compress < 0 || opt.compress > 9)
+        throw InputError(fmt::format("--compress {}: must be 0-9", opt.compress));
+}
+
+/// A fresh run deletes the frames, observables and checkpoints of a file: only with --overwrite.
+void refuse_existing_results(const h5::File& rf, const std::string& file) {
+    std::string what;
+    if (rf.exists(std::string(store::path::particles) + "/position/value")) {
+        const store::FrameReader fr(rf);
+        what = fmt::format("{} frame{}", fr.num_frames(), fr.num_frames() == 1 ? "" : "s");
+        if (fr.num_frames() > 0)
+            what += fmt::format(" (up to step {}, t = {:.6g} s)", fr.step(fr.num_frames() - 1),
+                                fr.time(fr.num_frames() - 1));
+    }
+    if (rf.exists(store::path::checkpoints) && !rf.list(store::path::checkpoints).empty())
+        what += (what.empty() ? "" : " and ") + std::string("a checkpoint");
+    else if (rf.exists(store::path::observables) && what.empty())
+        what = "observables";
+    if (what.empty())
+        return;
+    throw InputError(fmt::format("{}: already holds the results of a run: {}. Continue it with "
+                                 "--restart (add --final-time T to go further), or pass "
+                                 "--overwrite to delete them and start again from t = 0",
+                                 file, what));
+}
+
 } // namespace
 
 void solve(const SolveOptions& opt, Context& ctx) {
@@ -191,6 +233,13 @@ void solve(const SolveOptions& opt, Context& ctx) {
     const StopSignals stop_signals;
     const bool par = ctx.size > 1;
     MPI_Comm comm = MPI_COMM_WORLD;
+    // Every check comes before the file is changed: a refused run leaves it byte for byte.
+    ctx.errors_collective = true;
+    check_options(opt);
+    if (::access(opt.file.c_str(), W_OK) != 0)
+        throw InputError(fmt::format("{}: cannot write to this file ({}): pd-solve stores its "
+                                     "frames in it; copy it somewhere writable",
+                                     opt.file, std::strerror(errno)));
     // Phase 1, every rank: read the model (and the checkpoint) read-only. Up to phase 2 every
     // rank works on the same data, so every rank raises the same errors.
     ctx.errors_collective = true;
@@ -205,6 +254,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
     {
         h5::File rf(opt.file, h5::Mode::read);
         m = store::read_model(rf, !par); // refuses a file it cannot read, untouched
+        if (!opt.restart && !opt.overwrite)
+            refuse_existing_results(rf, opt.file);
         if (opt.restart) {
             const double t0 = wall_seconds();
             ck = store::read_latest_checkpoint(rf, m.nodes.num(), m.bonds.num());
@@ -253,14 +304,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
             row_neighbors = store::read_bond_rows(rf, m, dom->runs());
         }
     }
-    // Provenance: by rank 0 alone, once the run's (parallel) file is closed.
-    ctx.on_exit = [&ctx, file = opt.file](int code) {
-        if (ctx.rank != 0)
-            return;
-        h5::File f(file, h5::Mode::read_write);
-        store::append_provenance(f, ctx.run, code);
-    };
-    if (opt.final_time > 0)
+    if (opt.final_time_given)
         m.solver.final_time = opt.final_time;
 
     solver::Solver s(m, dom.get(), std::move(row_neighbors));
@@ -295,6 +339,14 @@ void solve(const SolveOptions& opt, Context& ctx) {
     if (!std::isfinite(dt) || !(dt > 0))
         throw InputError(
             fmt::format("{}: no finite time step: set /solver/dt in the scene", opt.file));
+    // The step count must fit a 64-bit integer (and a double's exact integers).
+    const double steps_wanted = m.solver.final_time / dt;
+    if (!(steps_wanted < 0x1p53))
+        throw InputError(fmt::format(
+            "{}: {} = {:.6g} s at dt = {:.4g} s is {:.3g} steps, more than a run can count "
+            "(at most 2^53); give a smaller final time",
+            opt.file, opt.final_time_given ? "--final-time" : "/solver/final_time",
+            m.solver.final_time, dt, steps_wanted));
     std::int64_t total = 0;
     if (ck) {
         // Same dt; as many steps as reach final_time.
@@ -310,7 +362,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
     }
     s.set_dt(dt);
     const std::int64_t first = ck ? ck->step : 0;
-    const std::int64_t last = opt.max_steps >= 0 ? std::min(first + opt.max_steps, total) : total;
+    const std::int64_t last =
+        opt.max_steps >= 0 && opt.max_steps < total - first ? first + opt.max_steps : total;
     const std::int64_t out_every =
         m.solver.output_interval > 0
             ? std::max<std::int64_t>(1, std::llround(m.solver.output_interval / dt))
@@ -329,6 +382,14 @@ void solve(const SolveOptions& opt, Context& ctx) {
     if (!s.contact().active() && !s.walls().active())
         ctx.log.info("contact: off (no two bodies or walls with a contact law)");
 
+    // Provenance: by rank 0 alone, once the run's (parallel) file is closed. Set only now: a
+    // run refused by the checks above leaves the file as it was, byte for byte.
+    ctx.on_exit = [&ctx, file = opt.file](int code) {
+        if (ctx.rank != 0)
+            return;
+        h5::File f(file, h5::Mode::read_write);
+        store::append_provenance(f, ctx.run, code);
+    };
     // Phase 2, rank 0 alone: prepare the file (metadata only, serial).
     ctx.errors_collective = false;
     if (ctx.rank == 0) {

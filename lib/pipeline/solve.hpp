@@ -11,10 +11,13 @@ namespace pd::pipeline {
 
 struct SolveOptions {
     std::string file;
-    bool force_dt = false;        ///< accept a scene dt above the stability estimate
-    bool restart = false;         ///< continue from the latest checkpoint in the file
-    double final_time = 0;        ///< > 0: overrides /solver/final_time (extend a run)
-    std::int64_t max_steps = -1;  ///< stop after this many steps (short runs, tests)
+    bool force_dt = false;  ///< accept a scene dt above the stability estimate
+    bool restart = false;   ///< continue from the latest checkpoint in the file
+    bool overwrite = false; ///< start afresh on a file that holds frames or checkpoints
+    double final_time = 0;  ///< overrides /solver/final_time (extend a run) if given
+    bool final_time_given = false;
+    std::int64_t max_steps = -1; ///< stop after this many steps (short runs, tests); -1: no limit
+    bool max_steps_given = false;
     double progress_seconds = 10; ///< wall time between progress lines
     bool rebalance = false;       ///< re-partition the grains at checkpoints (MPI)
     int compress = 0;             ///< gzip level 1-9 of new frame datasets (0: none)

@@ -7,6 +7,7 @@
 #include "core/errors.hpp"
 #include "h5/file.hpp"
 #include "post/schema_json.hpp"
+#include "store/model_io.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -630,7 +631,20 @@ std::vector<std::string> check(const h5::File& f) {
     } catch (const json::exception& e) {
         throw InternalError(std::string("embedded pd-file schema does not parse: ") + e.what());
     }
-    return Checker(f, schema).run();
+    auto problems = Checker(f, schema).run();
+    if (problems.empty()) {
+        // What the schema cannot say (cross-dataset consistency, physical ranges): the checks
+        // every tool makes when it reads the model.
+        try {
+            (void)store::read_model(f);
+        } catch (const SchemaError& e) {
+            std::string what = e.what();
+            if (what.rfind(f.name() + ": ", 0) == 0)
+                what = what.substr(f.name().size() + 2);
+            problems.push_back(what);
+        }
+    }
+    return problems;
 }
 
 } // namespace pd::post

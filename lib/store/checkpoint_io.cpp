@@ -5,6 +5,9 @@
 #include "h5/file.hpp"
 #include "store/schema.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace pd::store {
 
 const std::array<const char*, 7>& checkpoint_dissipation() {
@@ -70,6 +73,26 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
     for (std::size_t k = 0; k < c.dissipation.size(); ++k)
         if (f.has_attr(g, checkpoint_dissipation()[k]))
             c.dissipation[k] = f.attr<double>(g, checkpoint_dissipation()[k]);
+    // A restart truncates the frames after this step: the numbers must make sense first.
+    if (c.step < 0 || c.step >= (std::int64_t{1} << 53))
+        throw SchemaError(f.name(), g + "@step", fmt::format("{} is not a step number", c.step));
+    if (f.attr_string(root, "latest") != fmt::format("step_{:012d}", c.step))
+        throw SchemaError(f.name(), g + "@step",
+                          fmt::format("{} does not match the checkpoint's name", c.step));
+    if (!std::isfinite(c.dt) || !(c.dt > 0))
+        throw SchemaError(f.name(), g + "@dt", fmt::format("{} is not a time step", c.dt));
+    if (!std::isfinite(c.time) || c.time < 0 ||
+        std::abs(c.time - static_cast<double>(c.step) * c.dt) >
+            1e-6 * std::max(c.time, static_cast<double>(c.step) * c.dt) + 1e-300)
+        throw SchemaError(f.name(), g + "@time",
+                          fmt::format("{} s is not step x dt = {} x {} s", c.time, c.step, c.dt));
+    if (c.broken_total < 0)
+        throw SchemaError(f.name(), g + "@broken_total", "must be >= 0");
+    if (!std::isfinite(c.external_work) || !std::isfinite(c.external_power))
+        throw SchemaError(f.name(), g + "@external_work", "must be finite");
+    for (std::size_t k = 0; k < c.dissipation.size(); ++k)
+        if (!std::isfinite(c.dissipation[k]))
+            throw SchemaError(f.name(), g + "@" + checkpoint_dissipation()[k], "must be finite");
     auto get3 = [&](const std::string& p) {
         h5::dims_t d;
         auto v = f.read<double>(g + "/" + p, &d);
@@ -77,6 +100,10 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
             throw SchemaError(
                 f.name(), g + "/" + p,
                 fmt::format("expected shape ({}, 3) (the file's node count)", num_nodes));
+        for (std::size_t i = 0; i < v.size(); ++i)
+            if (!std::isfinite(v[i]))
+                throw SchemaError(f.name(), g + "/" + p,
+                                  fmt::format("node {}: value is not finite", i / 3));
         return v;
     };
     c.u = get3("displacement");

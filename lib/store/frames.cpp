@@ -6,6 +6,7 @@
 #include "store/schema.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace pd::store {
@@ -141,6 +142,10 @@ FrameReader::FrameReader(const h5::File& f)
                           fmt::format("{} steps, {} times, {} frames of values", steps_.size(),
                                       times_.size(), sh[0]));
     n_ = sh[1];
+    for (std::size_t k = 0; k < times_.size(); ++k)
+        if (!std::isfinite(times_[k]) || steps_[k] < 0)
+            throw SchemaError(f_.name(), pos + "/time",
+                              fmt::format("frame {}: step {}, time {}", k, steps_[k], times_[k]));
 }
 
 std::vector<std::string> FrameReader::fields() const {
@@ -165,6 +170,12 @@ std::vector<double> FrameReader::read(const std::string& field, std::size_t k) c
     auto v = f_.read_rows<double>(p, k, 1);
     if (v.size() != n_ * static_cast<std::size_t>(components(field)))
         throw SchemaError(f_.name(), p, "has the wrong number of nodes");
+    const auto c = static_cast<std::size_t>(components(field));
+    for (std::size_t i = 0; i < v.size(); ++i)
+        if (!std::isfinite(v[i]))
+            throw SchemaError(f_.name(), p,
+                              fmt::format("frame {} (step {}): node {} is not finite", k,
+                                          k < steps_.size() ? steps_[k] : -1, i / c));
     return v;
 }
 

@@ -61,8 +61,23 @@ template <class T>
 T get_scalar(const h5::File& f, const std::string& p) {
     if (!f.exists(p))
         throw SchemaError(f.name(), p, "missing dataset");
-    return f.read_scalar<T>(p);
+    const T v = f.read_scalar<T>(p);
+    if constexpr (std::is_floating_point_v<T>)
+        if (!std::isfinite(v))
+            throw SchemaError(f.name(), p, fmt::format("{} is not finite", v));
+    return v;
 }
+
+/// `v` in [lo, hi] (a physical scalar of a material or the solver).
+void require_between(const h5::File& f, const std::string& p, double v, double lo, double hi,
+                     const char* what) {
+    if (!(v >= lo && v <= hi))
+        throw SchemaError(f.name(), p,
+                          fmt::format("{} outside [{:g}, {:g}] ({})", v, lo, hi, what));
+}
+
+/// Contact and wall groups index a groups x groups law table: the scene's range.
+constexpr std::int32_t max_group = 1000;
 
 template <class T>
 void require_range(const h5::File& f, const std::string& p, const std::vector<T>& v, T lo, T hi) {
@@ -330,6 +345,12 @@ model::Model read_model(const h5::File& f, bool neighbors) {
         mat.fracture_energy = get_scalar<double>(f, g + "/fracture_energy");
         if (!(mat.density > 0) || !(mat.youngs_modulus > 0))
             throw SchemaError(f.name(), g, "density and youngs_modulus must be positive");
+        // Far beyond any solid (diamond: E ~ 1e12 Pa, osmium: 2.2e4 kg/m3); values past these
+        // overflow the stable time step and the energies.
+        require_between(f, g + "/youngs_modulus", mat.youngs_modulus, 1e-6, 1e15, "Pa");
+        require_between(f, g + "/density", mat.density, 1e-6, 1e6, "kg m-3");
+        require_between(f, g + "/poisson_ratio", mat.poisson_ratio, -1, 0.5, "1");
+        require_between(f, g + "/fracture_energy", mat.fracture_energy, 0, 1e15, "J m-2");
     }
     // Reference meshes.
     if (f.exists(path::reference_meshes)) {
@@ -367,6 +388,7 @@ model::Model read_model(const h5::File& f, bool neighbors) {
     B.horizon = get<double>(f, b + "/horizon", {nb});
     require_range<std::int32_t>(f, b + "/material", B.material, 0,
                                 static_cast<std::int32_t>(m.materials.size()));
+    require_range<std::int32_t>(f, b + "/group", B.group, 0, max_group + 1);
     for (std::size_t i = 0; i < nb; ++i)
         if (!(B.horizon[i] > 0) || !(B.mesh_size[i] > 0))
             throw SchemaError(f.name(), b + "/horizon",
@@ -389,6 +411,14 @@ model::Model read_model(const h5::File& f, bool neighbors) {
         !std::is_sorted(B.node_offsets.begin(), B.node_offsets.end()))
         throw SchemaError(f.name(), b + "/node_offsets",
                           fmt::format("must rise from 0 to the node count {}", n));
+    for (std::size_t k = 0; k < nb; ++k)
+        for (auto i = B.node_offsets[k]; i < B.node_offsets[k + 1]; ++i)
+            if (m.nodes.body[static_cast<std::size_t>(i)] != static_cast<std::int32_t>(k))
+                throw SchemaError(
+                    f.name(), nd + "/body",
+                    fmt::format("node {} is of body {}, but /bodies/node_offsets puts it in body "
+                                "{} (the two datasets disagree)",
+                                i, m.nodes.body[static_cast<std::size_t>(i)], k));
     // Bonds.
     const std::string bo = path::bonds;
     m.bonds.offsets = get<std::int64_t>(f, bo + "/offsets", {n + 1});
@@ -415,8 +445,23 @@ model::Model read_model(const h5::File& f, bool neighbors) {
     auto kn = get<double>(f, c + "/stiffness", {np});
     auto eps = get<double>(f, c + "/restitution", {np});
     auto mu = get<double>(f, c + "/friction", {np});
-    for (std::size_t k = 0; k < np; ++k)
+    require_range<std::int32_t>(f, c + "/group_a", ga, 0, max_group + 1);
+    require_range<std::int32_t>(f, c + "/group_b", gb, 0, max_group + 1);
+    for (std::size_t k = 0; k < np; ++k) {
+        auto bad = [&](const char* name, double v, const char* why) {
+            throw SchemaError(f.name(), c + "/" + name,
+                              fmt::format("entry {} = {}: {}", k, v, why));
+        };
+        if (!(kn[k] >= 0) || kn[k] > 1e30)
+            bad("stiffness", kn[k], "must be in [0, 1e30] (0: no contact)");
+        if (!(rad[k] >= 0))
+            bad("radius", rad[k], "must be >= 0");
+        if (!(eps[k] >= 0 && eps[k] <= 1))
+            bad("restitution", eps[k], "must be in [0, 1]");
+        if (!(mu[k] >= 0))
+            bad("friction", mu[k], "must be >= 0");
         m.contact.push_back({ga[k], gb[k], rad[k], kn[k], eps[k], mu[k]});
+    }
     // Rigid walls.
     if (f.exists(path::walls)) {
         const std::string w = path::walls;
@@ -430,6 +475,7 @@ model::Model read_model(const h5::File& f, bool neighbors) {
         auto omega = get<double>(f, w + "/angular_velocity", {nw, 3});
         auto centre = get<double>(f, w + "/centre", {nw, 3});
         require_range<std::uint8_t>(f, w + "/shape", shape, 0, 3);
+        require_range<std::int32_t>(f, w + "/group", group, 0, max_group + 1);
         std::vector<std::int32_t> motion(nw, static_cast<std::int32_t>(model::TimeFn::linear));
         std::vector<double> mparams(4 * nw, 0.0);
         if (f.exists(w + "/motion")) {
@@ -544,6 +590,22 @@ model::Model read_model(const h5::File& f, bool neighbors) {
         throw SchemaError(f.name(), s, "integrator '" + integ + "' unknown");
     if (!(S.final_time > 0))
         throw SchemaError(f.name(), s + "/final_time", "must be positive");
+    if (!(S.dt >= 0))
+        throw SchemaError(f.name(), s + "/dt", fmt::format("{} s: must be > 0 (0: auto)", S.dt));
+    if (!(S.dt_safety > 0))
+        throw SchemaError(f.name(), s + "/dt_safety", fmt::format("{}: must be > 0", S.dt_safety));
+    if (!(S.output_interval >= 0))
+        throw SchemaError(f.name(), s + "/output_interval",
+                          fmt::format("{} s: must be >= 0", S.output_interval));
+    if (!(S.checkpoint_interval >= 0))
+        throw SchemaError(f.name(), s + "/checkpoint_interval",
+                          fmt::format("{} s: must be >= 0", S.checkpoint_interval));
+    if (S.observe_every < 1)
+        throw SchemaError(f.name(), s + "/observe_every",
+                          fmt::format("{}: must be at least 1", S.observe_every));
+    if (!(S.contact_skin >= 0))
+        throw SchemaError(f.name(), s + "/contact_skin",
+                          fmt::format("{}: must be >= 0", S.contact_skin));
     m.check_consistency();
     return m;
 }

@@ -50,10 +50,11 @@ def test_dt_above_limit_is_refused_unless_forced(tmp_path):
     assert r.returncode == 2, r.stderr
     assert "/solver/dt" in r.stderr and "stability estimate" in r.stderr
     assert "governed by" in r.stderr
-    # Nothing was lost: the file still validates as packed, with no frames.
+    # Nothing was lost: the file still validates as packed, with no frames; a run refused
+    # before it started leaves the file as it was (no provenance entry either, issue 13).
     with h5py.File(f, "r") as h:
         assert "particles" not in h
-        assert h["provenance"][sorted(h["provenance"])[-1]].attrs["exit_status"] == 2
+        assert h["provenance"][sorted(h["provenance"])[-1]].attrs["tool"] == "pd-pack"
 
 
 def test_blow_up_exits_3_and_keeps_the_last_good_frame(tmp_path):

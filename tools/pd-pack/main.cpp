@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
                                "as plain JSON to stdout and exit");
     out->excludes(print);
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
+    app.add_option("--max-nodes", opt.max_nodes,
+                   "refuse a scene estimated (before meshing) above this many nodes (2e7)");
     pd::add_common_flags(app, opt.common);
     try {
         app.parse(argc, argv);

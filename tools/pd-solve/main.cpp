@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // pd-solve: explicit peridynamics + contact on a pd-file; frames and observables go into it.
-// Usage: pd-solve FILE.h5 [--steps N] [--force-dt]
+// Usage: pd-solve FILE.h5 [--restart | --overwrite] [--steps N] [--final-time T] [--force-dt]
 #include "core/tool.hpp"
 #include "pipeline/solve.hpp"
 
@@ -13,14 +13,19 @@ int main(int argc, char** argv) {
     app.add_option("file", opt.file, "pd-file, updated in place (frames, observables)")
         ->required()
         ->check(CLI::ExistingFile);
-    app.add_option("--steps", opt.max_steps, "stop after N steps (short runs)");
+    auto* steps = app.add_option("--steps", opt.max_steps, "stop after N >= 1 steps (short runs)");
     app.add_flag("--force-dt", opt.force_dt, "accept a scene dt above the stability estimate");
-    app.add_flag("--restart", opt.restart, "continue from the latest checkpoint in the file");
+    auto* restart =
+        app.add_flag("--restart", opt.restart, "continue from the latest checkpoint in the file");
+    app.add_flag("--overwrite", opt.overwrite,
+                 "start afresh on a file that already holds frames or checkpoints (deletes them)")
+        ->excludes(restart);
     app.add_option("--compress", opt.compress, "gzip level 1-9 of the frames (0: none)")
         ->check(CLI::Range(0, 9));
     app.add_flag("--rebalance", opt.rebalance,
                  "under MPI: re-partition the grains where they are at each checkpoint");
-    app.add_option("--final-time", opt.final_time, "override the scene's final time (s)");
+    auto* final_time =
+        app.add_option("--final-time", opt.final_time, "override the scene's final time (s)");
     app.add_option("--energy-tolerance", opt.energy_tolerance,
                    "stop (exit 3) when the energy balance drifts by more than this fraction of "
                    "the energy in play (default 0.05; 0: off)")
@@ -33,6 +38,8 @@ int main(int argc, char** argv) {
                "by a signal with a checkpoint.");
     pd::add_common_flags(app, opt.common);
     CLI11_PARSE(app, argc, argv);
+    opt.max_steps_given = steps->count() > 0;
+    opt.final_time_given = final_time->count() > 0;
     return pd::run_tool("pd-solve", argc, argv, opt.common,
                         [&](pd::Context& ctx) { pd::pipeline::solve(opt, ctx); });
 }

@@ -37,9 +37,9 @@ for scene in pack500 plate_1m; do
   cp "$work/$scene.h5" "$work/${scene}_2.h5"
   part=$("$bin/pd-partition" "$work/${scene}_2.h5" -n 2 --by $by)
   echo "$part" > "$work/${scene}_partition.txt"
-  t1=$(best "$bin/pd-solve" "$work/$scene.h5" --steps "$steps")
-  t2=$(best mpirun --oversubscribe -np 2 "$bin/pd-solve" "$work/${scene}_2.h5" --steps "$steps")
-  t12=$(OMP_NUM_THREADS=2 best "$bin/pd-solve" "$work/$scene.h5" --steps "$steps")
+  t1=$(best "$bin/pd-solve" "$work/$scene.h5" --overwrite --steps "$steps")
+  t2=$(best mpirun --oversubscribe -np 2 "$bin/pd-solve" "$work/${scene}_2.h5" --overwrite --steps "$steps")
+  t12=$(OMP_NUM_THREADS=2 best "$bin/pd-solve" "$work/$scene.h5" --overwrite --steps "$steps")
   awk -v s=$scene -v n=$nodes -v st=$steps -v a=$t1 -v b=$t2 -v c=$t12 'BEGIN {
     printf "| %s | %d | 1 x 1 | %d | %.3f | 1.00 | 1.00 |\n", s, n, st, a;
     printf "| %s | %d | 2 x 1 | %d | %.3f | %.2f | %.2f |\n", s, n, st, b, a / b, a / b / 2;
