@@ -128,19 +128,6 @@ std::vector<double> observable_row(const solver::Observables& o) {
     return r;
 }
 
-/// KE + elastic + contact + dissipated - external work: constant in an exact integration.
-double energy_balance(const solver::Observables& o) {
-    return o.kinetic_energy + o.elastic_energy + o.contact_energy + o.fracture_energy +
-           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation - o.external_work;
-}
-
-/// The scale the balance drift is measured against.
-double energy_in_play(const solver::Observables& o) {
-    return o.kinetic_energy + o.elastic_energy + o.contact_energy + std::abs(o.fracture_energy) +
-           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation +
-           std::abs(o.external_work);
-}
-
 /// Re-partitions the grains where they are now (--rebalance, at a checkpoint): METIS on the
 /// current grain graph; adopted if it cuts fewer near-grain pairs than the partition in use.
 /// Collective. Returns the new domain (already handed to the solver), or nullptr.
@@ -474,8 +461,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
         if (first == 0) {
             const auto o = s.observe();
             energy0 = o.kinetic_energy + o.elastic_energy + o.contact_energy;
-            balance0 = energy_balance(o);
-            in_play = energy_in_play(o);
+            balance0 = solver::energy_balance(o);
+            in_play = solver::energy_in_play(o);
         } else {
             // Initial energy and balance from the first observable row (kept across restarts;
             // NaN in a file from before pd-file 1.2: no balance check), the energy in play as the
@@ -501,9 +488,9 @@ void solve(const SolveOptions& opt, Context& ctx) {
                 o.viscous_dissipation = at("viscous_dissipation", r);
                 if (r == 0) {
                     energy0 = o.kinetic_energy + o.elastic_energy + o.contact_energy;
-                    balance0 = energy_balance(o);
+                    balance0 = solver::energy_balance(o);
                 }
-                in_play = std::max(in_play, energy_in_play(o));
+                in_play = std::max(in_play, solver::energy_in_play(o));
             }
         }
         double next_report = wall_seconds() + opt.progress_seconds;
@@ -575,8 +562,8 @@ void solve(const SolveOptions& opt, Context& ctx) {
                 }
                 // Energy balance: energy created (an instability, even one that fracture then
                 // absorbs) or lost without account shows up here long before 100x.
-                in_play = std::max(in_play, energy_in_play(o));
-                const double drift = energy_balance(o) - balance0;
+                in_play = std::max(in_play, solver::energy_in_play(o));
+                const double drift = solver::energy_balance(o) - balance0;
                 if (opt.energy_tolerance > 0 && std::isfinite(balance0) &&
                     std::abs(drift) > opt.energy_tolerance * in_play && in_play > 0) {
                     obs.add(n, s.state().time, observable_row(o)); // the row that failed

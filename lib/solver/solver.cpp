@@ -60,6 +60,17 @@ bool segments_cross(const double* a, const double* b, const double* c, const dou
 
 } // namespace
 
+double energy_balance(const Observables& o) {
+    return o.kinetic_energy + o.elastic_energy + o.contact_energy + o.fracture_energy +
+           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation - o.external_work;
+}
+
+double energy_in_play(const Observables& o) {
+    return o.kinetic_energy + o.elastic_energy + o.contact_energy + std::abs(o.fracture_energy) +
+           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation +
+           std::abs(o.external_work);
+}
+
 Solver::Solver(const model::Model& m, Domain* dom, std::vector<index_t> row_neighbors)
     : m_(m)
     , dom_(dom)

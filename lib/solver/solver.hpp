@@ -52,6 +52,12 @@ struct Observables {
     std::vector<double> body_moment;
 };
 
+/// KE + elastic + contact + dissipated - external work: constant in an exact integration (J).
+double energy_balance(const Observables& o);
+/// The energy in play, the scale the balance drift is measured against: KE + elastic + contact
+/// + dissipated + |external work| (J).
+double energy_in_play(const Observables& o);
+
 class Solver {
   public:
     /// `dom`: the nodes this rank owns and its ghost exchange (nullptr: one rank owns all).

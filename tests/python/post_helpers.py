@@ -85,7 +85,7 @@ def add_checkpoint(path, step, alive):
         n = f["nodes/volume"].shape[0]
         name = "step_%012d" % step
         g = f.create_group("checkpoints/" + name)
-        for k, v in [("step", np.int64(step)), ("time", 0.0), ("dt", 1e-6),
+        for k, v in [("step", np.int64(step)), ("time", step * 1e-6), ("dt", 1e-6),
                      ("broken_total", np.int64(np.count_nonzero(np.asarray(alive) == 0))),
                      ("external_work", 0.0), ("external_power", 0.0), ("complete", np.int32(1))]:
             g.attrs[k] = v

@@ -18,15 +18,14 @@ using namespace pd;
 
 const Log quiet("test", 0, Verbosity::quiet);
 
+using solver::energy_in_play;
+
 double balance(const solver::Observables& o) {
-    return o.kinetic_energy + o.elastic_energy + o.contact_energy + o.fracture_energy +
-           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation - o.external_work;
+    return solver::energy_balance(o);
 }
 
 double in_play(const solver::Observables& o) {
-    return o.kinetic_energy + o.elastic_energy + o.contact_energy + std::abs(o.fracture_energy) +
-           o.damping_dissipation + o.friction_dissipation + o.viscous_dissipation +
-           std::abs(o.external_work);
+    return energy_in_play(o);
 }
 
 /// Largest |balance - balance(0)| over the run, relative to the largest energy in play.
