@@ -1124,10 +1124,11 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                      k, close, rc);
     }
 
-    // Surface-layer nodes: within the largest contact radius (plus a mesh spacing) of their
-    // grain's boundary. Only a weight for the partitioner's graph (pd-partition): the contact
-    // search takes every node of grains near each other (a grain pressed deeper than this layer
-    // must still meet the nodes below it), see solver/contact.hpp.
+    // Surface-layer nodes: within 2 R_c + h/2 of their grain's boundary (R_c the largest contact
+    // radius). A node of another grain within R_c of a node below the layer is more than
+    // R_c + h/2 inside: pd-solve's interpenetration guard (solver/contact.hpp Penetration).
+    // Also the partitioner's weight. The contact search takes every node of grains near each
+    // other, whatever its depth.
     {
         double rc_max = 0;
         for (const auto& p : m.contact)
@@ -1138,7 +1139,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             for (auto i = B.begin(b); i < B.end(b); ++i) {
                 const auto k = static_cast<std::size_t>(i - B.begin(b));
                 m.nodes.surface[static_cast<std::size_t>(i)] =
-                    bd[k] * B.scale[b] <= rc_max + B.mesh_size[b] ? 1 : 0;
+                    bd[k] * B.scale[b] <= 2 * rc_max + 0.5 * B.mesh_size[b] ? 1 : 0;
             }
         }
     }

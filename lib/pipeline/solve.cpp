@@ -560,6 +560,21 @@ void solve(const SolveOptions& opt, Context& ctx) {
                         opt.file, n, st.time, e, energy0, o.external_work, fast, st.body[fast],
                         vmax, dt, est.limit));
                 }
+                // Interpenetration: a node more than R_c + h/2 inside another grain.
+                if (opt.penetration_check && o.inside_pairs > 0) {
+                    obs.add(n, s.state().time, observable_row(o));
+                    obs.flush();
+                    throw NumericalError(fmt::format(
+                        "{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) "
+                        "more than the contact radius + h/2 inside another grain{}. The contact "
+                        "is too soft for this load or impact (raise contact.stiffness_factor or "
+                        "the radius, slow the loading); the frames before stay in the file "
+                        "(--no-penetration-check runs on)",
+                        opt.file, n, s.state().time, o.inside_pairs,
+                        o.inside_node >= 0 ? fmt::format(" (node {} of body {} inside body {})",
+                                                         o.inside_node, o.inside_body, o.inside_of)
+                                           : std::string{}));
+                }
                 // Energy balance: energy created (an instability, even one that fracture then
                 // absorbs) or lost without account shows up here long before 100x.
                 in_play = std::max(in_play, solver::energy_in_play(o));

@@ -25,6 +25,8 @@ struct SolveOptions {
     /// external work drifts from its t = 0 value by more than this fraction of the energy in
     /// play (the largest KE + elastic + contact + dissipated + |external work| seen). 0: off.
     double energy_tolerance = 0.05;
+    /// Stop (exit 3) when a node is more than R_c + h/2 inside another grain.
+    bool penetration_check = true;
     CommonOptions common;
 };
 

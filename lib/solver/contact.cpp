@@ -29,6 +29,19 @@ ContactList::ContactList(const model::Model& m, double skin)
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
     owned_.assign(m.nodes.num(), 1);
+    // Nodes below their grain's surface layer (pd-pack: deeper than 2 R_c + h/2 from the
+    // reference boundary): a node of another grain within R_c of one is more than R_c + h/2
+    // inside this grain. Files without the layer flag: no check.
+    if (!m.nodes.surface.empty()) {
+        deep_.resize(m.nodes.num());
+        bool any = false;
+        for (std::size_t i = 0; i < deep_.size(); ++i) {
+            deep_[i] = m.nodes.surface[i] ? 0 : 1;
+            any = any || deep_[i];
+        }
+        if (!any)
+            deep_.clear();
+    }
 }
 
 bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit) {
@@ -53,12 +66,15 @@ bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double
 std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                                           std::vector<BodyPairForce>* normal) const {
     const auto n = static_cast<std::int64_t>(s.rows.size());
-    std::int64_t touching = 0;
+    std::int64_t touching = 0, inside = 0;
     double e = 0;
     std::vector<BodyPairForce> records;
-#pragma omp parallel reduction(+ : touching, e) if (n > parallel_min)
+    inside_ = {};
+#pragma omp parallel reduction(+ : touching, e, inside) if (n > parallel_min)
     {
         std::vector<BodyPairForce> mine;
+        std::int64_t first_node = -1;
+        std::int32_t first_body = -1;
 #pragma omp for schedule(static) nowait
         for (std::int64_t a = 0; a < n; ++a) {
             const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
@@ -75,6 +91,13 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                 if (r2 >= law.radius * law.radius)
                     continue;
                 const double r = std::sqrt(r2);
+                if (!deep_.empty() && deep_[static_cast<std::size_t>(j)]) {
+                    ++inside; // i is more than R_c + h/2 inside j's grain
+                    if (first_node < 0) {
+                        first_node = i;
+                        first_body = s.body[static_cast<std::size_t>(j)];
+                    }
+                }
                 const double fn = law.stiffness * (law.radius - r) * s.vol[j]; // density, > 0
                 const double a = -fn / r; // along d: pushes i away from j
                 fi[0] += a * d0;
@@ -109,12 +132,21 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
             s.f[3 * i + 1] += fi[1];
             s.f[3 * i + 2] += fi[2];
         }
+        if (first_node >= 0) {
+#pragma omp critical(pd_contact_inside)
+            if (inside_.node < 0 || first_node < inside_.node) {
+                inside_.node = first_node;
+                inside_.body = s.body[static_cast<std::size_t>(first_node)];
+                inside_.inside = first_body;
+            }
+        }
         if (normal) {
 #pragma omp critical(pd_contact_records)
             records.insert(records.end(), mine.begin(), mine.end());
         }
     }
     energy = e;
+    inside_.count = inside;
     if (normal) {
         std::sort(records.begin(), records.end(),
                   [](const auto& p, const auto& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });

@@ -29,6 +29,18 @@ struct BodyPairForce {
     bool damped;     ///< the law has restitution < 1
 };
 
+/// Interpenetration found by ContactList::add_forces(): a node within R_c of a node of another
+/// grain that lies below that grain's surface layer (reference depth > 2 R_c + h/2, pd-pack's
+/// /nodes/surface), so the node is more than R_c + h/2 inside the other grain (the bound of the
+/// stress suite's check). Contact has failed there (too soft for the load or the impact) and no
+/// later step pushes the node back out: pd-solve stops with exit 3.
+struct Penetration {
+    std::int64_t count = 0;   ///< such node pairs (this rank's rows, last evaluation)
+    std::int64_t node = -1;   ///< the smallest node of them
+    std::int32_t body = -1;   ///< its grain
+    std::int32_t inside = -1; ///< the grain it is inside
+};
+
 class ContactList {
   public:
     /// `skin` > 0. Bodies in groups with no contact law never interact.
@@ -53,6 +65,8 @@ class ContactList {
     /// damping and friction, applied from this list, do not depend on the thread schedule).
     std::int64_t add_forces(State& s, double& energy, std::vector<BodyPairForce>* normal) const;
     const std::vector<model::ContactPair>& laws() const { return laws_; }
+    /// Nodes found inside another grain at the last add_forces() (see Penetration).
+    const Penetration& penetration() const { return inside_; }
     bool any_friction() const { return any_friction_; }
     std::int64_t rebuilds() const { return rebuilds_; }
     std::size_t num_candidates() const { return neighbor_.size(); }
@@ -78,6 +92,8 @@ class ContactList {
     std::vector<std::uint8_t> owned_; ///< 1 = this rank builds the node's row
     bool built_ = false;
     bool any_friction_ = false;
+    std::vector<std::uint8_t> deep_; ///< 1 = below its grain's surface layer (empty: no check)
+    mutable Penetration inside_;
     std::int64_t rebuilds_ = 0;
 };
 

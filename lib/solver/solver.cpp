@@ -1099,6 +1099,13 @@ Observables Solver::observe() const {
     o.wall_force = wall_load_.force;
     o.wall_moment = wall_load_.moment;
     o.broken_bonds = broken_total_;
+    if (contact_->active()) {
+        const auto& pen = contact_->penetration();
+        o.inside_pairs = pen.count;
+        o.inside_node = pen.node;
+        o.inside_body = pen.body;
+        o.inside_of = pen.inside;
+    }
     if (dom_->distributed()) {
         // One reduction for every sum over ranks (counts are exact in doubles below 2^53).
         std::vector<double> all{o.kinetic_energy,
@@ -1114,7 +1121,8 @@ Observables Solver::observe() const {
                                 o.damping_dissipation,
                                 o.friction_dissipation,
                                 o.viscous_dissipation,
-                                o.gravity_potential};
+                                o.gravity_potential,
+                                static_cast<double>(o.inside_pairs)};
         all.insert(all.end(), o.wall_force.begin(), o.wall_force.end());
         all.insert(all.end(), o.wall_moment.begin(), o.wall_moment.end());
         dom_->sum(all);
@@ -1131,7 +1139,8 @@ Observables Solver::observe() const {
         o.friction_dissipation = all[11];
         o.viscous_dissipation = all[12];
         o.gravity_potential = all[13];
-        constexpr std::ptrdiff_t first = 14;
+        o.inside_pairs = static_cast<std::int64_t>(all[14]);
+        constexpr std::ptrdiff_t first = 15;
         const auto nw = static_cast<std::ptrdiff_t>(o.wall_force.size());
         std::copy(all.begin() + first, all.begin() + first + nw, o.wall_force.begin());
         std::copy(all.begin() + first + nw, all.end(), o.wall_moment.begin());

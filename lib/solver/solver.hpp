@@ -41,6 +41,12 @@ struct Observables {
     double friction_dissipation = 0; ///< removed by Coulomb friction
     double viscous_dissipation = 0;  ///< removed by viscous relaxation
     double gravity_potential = 0;    ///< J, -sum m g . u of moving nodes (part of external_work)
+    /// Node pairs with a node more than R_c + h/2 inside another grain (solver/contact.hpp
+    /// Penetration), over all ranks, and one of them as this rank saw it (-1: none here). Not
+    /// written to the file.
+    std::int64_t inside_pairs = 0;
+    std::int64_t inside_node = -1;
+    std::int32_t inside_body = -1, inside_of = -1;
     double momentum[3] = {0, 0, 0};  ///< kg m s-1
     std::int64_t contact_count = 0;  ///< node pairs (and node-wall pairs) closer than R_c
     std::int64_t broken_bonds = 0;   ///< broken bonds (pairs)

@@ -30,6 +30,10 @@ int main(int argc, char** argv) {
                    "stop (exit 3) when the energy balance drifts by more than this fraction of "
                    "the energy in play (default 0.05; 0: off)")
         ->check(CLI::Range(0.0, 1e6));
+    bool no_penetration = false;
+    app.add_flag("--no-penetration-check", no_penetration,
+                 "run on when a node is more than R_c + h/2 inside another grain (default: stop, "
+                 "exit 3)");
     app.add_option("--progress-every", opt.progress_seconds, "seconds between progress lines");
     app.footer("On SIGTERM or SIGUSR1 (Slurm: before the wall-time limit, on pre-emption) pd-solve "
                "finishes the current step, writes a checkpoint, records exit status 75 in "
@@ -38,6 +42,7 @@ int main(int argc, char** argv) {
                "by a signal with a checkpoint.");
     pd::add_common_flags(app, opt.common);
     CLI11_PARSE(app, argc, argv);
+    opt.penetration_check = !no_penetration;
     opt.max_steps_given = steps->count() > 0;
     opt.final_time_given = final_time->count() > 0;
     return pd::run_tool("pd-solve", argc, argv, opt.common,

@@ -224,3 +224,49 @@ TEST(Energy, GravityPotentialIsTheWorkOfGravity) {
 }
 
 } // namespace
+
+namespace {
+
+/// Two discs, the right one moved left until the nearest nodes are 0.5 R_c apart, then `push`
+/// (m) further: node pairs the contact finds with a node more than R_c + h/2 inside the other
+/// grain.
+std::int64_t inside_after_push(double push, double radius_factor) {
+    using namespace pd;
+    const std::string sc = R"({"dimension": 2, "title": "t",
+      "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [-1.2e-3, 0], "material": "m"},
+                    {"radius": 1e-3, "center": [1.2e-3, 0], "material": "m", "orientation": 0.3}],
+      "contact": {"radius_factor": )" +
+                           std::to_string(radius_factor) + R"(},
+      "solver": {"final_time": 1e-3}})";
+    auto m = pipeline::build_scene(sc, "t", quiet);
+    solver::Solver s(m);
+    auto& st = s.state();
+    double xmax0 = -1, xmin1 = 1;
+    for (std::size_t i = 0; i < st.n; ++i) {
+        if (st.body[i] == 0)
+            xmax0 = std::max(xmax0, st.x0[3 * i]);
+        else
+            xmin1 = std::min(xmin1, st.x0[3 * i]);
+    }
+    const double shift = (xmin1 - xmax0) - 0.5 * m.contact.at(0).radius + push;
+    for (std::size_t i = 0; i < st.n; ++i)
+        if (st.body[i] == 1)
+            st.x[3 * i] = st.x0[3 * i] - shift;
+    s.initialize();
+    return s.observe().inside_pairs;
+}
+
+} // namespace
+
+TEST(Contact, NodesDeepInsideAnotherGrainAreFound) {
+    // The guard of pd-solve (exit 3): a node within R_c of a node below the other grain's surface
+    // layer (2 R_c + h/2) is more than R_c + h/2 inside it. Pressed by one mesh size (R_c =
+    // 0.95 h) or two (R_c = 3 h) grains are not flagged; pressed 4 h (8 h) they are.
+    EXPECT_EQ(inside_after_push(0.0, 0.95), 0);
+    EXPECT_EQ(inside_after_push(1e-4, 0.95), 0);
+    EXPECT_GT(inside_after_push(4e-4, 0.95), 0);
+    EXPECT_EQ(inside_after_push(2e-4, 3.0), 0);
+    EXPECT_GT(inside_after_push(8e-4, 3.0), 0);
+}
