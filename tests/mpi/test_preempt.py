@@ -27,8 +27,11 @@ ACCUMULATED = {"external_work", "fracture_energy", "damping_dissipation",
 
 
 def launch(ranks, *args):
+    # The 50-grain pack trips the interpenetration guard late in the run (see test_mpi.py
+    # NO_GUARD); this test is about stopping and restarting, so the guard is off.
     cmd = ["mpirun", "--oversubscribe", "-np", str(ranks)] if ranks > 1 else []
-    return cmd + [f"{BIN}/{args[0]}", *map(str, args[1:])]
+    extra = ["--no-penetration-check"] if args[0] == "pd-solve" else []
+    return cmd + [f"{BIN}/{args[0]}", *map(str, args[1:]), *extra]
 
 
 def prepare(tmp_path, base, name, ranks, by):
