@@ -575,6 +575,22 @@ void solve(const SolveOptions& opt, Context& ctx) {
                                                          o.inside_node, o.inside_body, o.inside_of)
                                            : std::string{}));
                 }
+                if (opt.penetration_check && o.beyond_wall > 0) {
+                    obs.add(n, s.state().time, observable_row(o));
+                    obs.flush();
+                    throw NumericalError(fmt::format(
+                        "{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
+                        "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
+                        "too soft for this impact (raise contact.stiffness_factor, lower the "
+                        "speed); the frames before stay in the file (--no-penetration-check "
+                        "runs on)",
+                        opt.file, n, s.state().time, o.beyond_wall,
+                        o.beyond_node >= 0
+                            ? fmt::format(" (node {} of body {}, wall {})", o.beyond_node,
+                                          s.state().body[static_cast<std::size_t>(o.beyond_node)],
+                                          o.beyond_wall_index)
+                            : std::string{}));
+                }
                 // Energy balance: energy created (an instability, even one that fracture then
                 // absorbs) or lost without account shows up here long before 100x.
                 in_play = std::max(in_play, solver::energy_in_play(o));

@@ -1106,6 +1106,11 @@ Observables Solver::observe() const {
         o.inside_body = pen.body;
         o.inside_of = pen.inside;
     }
+    if (walls_->active()) {
+        o.beyond_wall = wall_load_.beyond;
+        o.beyond_node = wall_load_.beyond_node;
+        o.beyond_wall_index = wall_load_.beyond_wall;
+    }
     if (dom_->distributed()) {
         // One reduction for every sum over ranks (counts are exact in doubles below 2^53).
         std::vector<double> all{o.kinetic_energy,
@@ -1122,7 +1127,8 @@ Observables Solver::observe() const {
                                 o.friction_dissipation,
                                 o.viscous_dissipation,
                                 o.gravity_potential,
-                                static_cast<double>(o.inside_pairs)};
+                                static_cast<double>(o.inside_pairs),
+                                static_cast<double>(o.beyond_wall)};
         all.insert(all.end(), o.wall_force.begin(), o.wall_force.end());
         all.insert(all.end(), o.wall_moment.begin(), o.wall_moment.end());
         dom_->sum(all);
@@ -1140,7 +1146,8 @@ Observables Solver::observe() const {
         o.viscous_dissipation = all[12];
         o.gravity_potential = all[13];
         o.inside_pairs = static_cast<std::int64_t>(all[14]);
-        constexpr std::ptrdiff_t first = 15;
+        o.beyond_wall = static_cast<std::int64_t>(all[15]);
+        constexpr std::ptrdiff_t first = 16;
         const auto nw = static_cast<std::ptrdiff_t>(o.wall_force.size());
         std::copy(all.begin() + first, all.begin() + first + nw, o.wall_force.begin());
         std::copy(all.begin() + first + nw, all.end(), o.wall_moment.begin());

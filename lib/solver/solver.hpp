@@ -47,6 +47,11 @@ struct Observables {
     std::int64_t inside_pairs = 0;
     std::int64_t inside_node = -1;
     std::int32_t inside_body = -1, inside_of = -1;
+    /// Nodes more than h/2 beyond a rigid wall's surface (solver/walls.hpp), over all ranks, and
+    /// one of them with its wall as this rank saw it. Not written to the file.
+    std::int64_t beyond_wall = 0;
+    std::int64_t beyond_node = -1;
+    std::int32_t beyond_wall_index = -1;
     double momentum[3] = {0, 0, 0};  ///< kg m s-1
     std::int64_t contact_count = 0;  ///< node pairs (and node-wall pairs) closer than R_c
     std::int64_t broken_bonds = 0;   ///< broken bonds (pairs)

@@ -173,6 +173,9 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     load.moment.assign(3 * nw, 0.0);
     load.touching = 0;
     load.energy = 0;
+    load.beyond = 0;
+    load.beyond_node = -1;
+    load.beyond_wall = -1;
     if (!active_ || nodes_.empty())
         return;
     std::vector<WallPose> pose;
@@ -182,12 +185,14 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     std::vector<double> fm(6 * nw, 0.0); // force then moment, per wall
     double* fmp = fm.data();
     const std::size_t len = fm.size();
-    std::int64_t touching = 0;
+    std::int64_t touching = 0, beyond = 0;
     double energy = 0;
     std::vector<BodyWallForce> records;
-#pragma omp parallel reduction(+ : touching, energy, fmp[:len]) if (nn > parallel_min)
+#pragma omp parallel reduction(+ : touching, energy, beyond, fmp[:len]) if (nn > parallel_min)
     {
         std::vector<BodyWallForce> mine;
+        std::int64_t first = -1;
+        std::int32_t first_wall = -1;
 #pragma omp for schedule(static) nowait
         for (std::int64_t a = 0; a < nn; ++a) {
             const auto i = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(a)]);
@@ -202,6 +207,13 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
                 const double d = distance(walls_[w], pose[w], x, n);
                 if (d >= law.radius)
                     continue;
+                if (d < -0.5 * m_.bodies.mesh_size[static_cast<std::size_t>(s.body[i])]) {
+                    ++beyond; // more than h/2 through the wall
+                    if (first < 0) {
+                        first = static_cast<std::int64_t>(i);
+                        first_wall = static_cast<std::int32_t>(w);
+                    }
+                }
                 const double fn = law.stiffness * (law.radius - d) * s.vol[i]; // density
                 double f[3] = {fn * n[0], fn * n[1], fn * n[2]};
                 if (normal && (law.restitution < 1 || law.friction > 0))
@@ -231,6 +243,13 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
 #pragma omp critical(pd_wall_records)
             records.insert(records.end(), mine.begin(), mine.end());
         }
+        if (first >= 0) {
+#pragma omp critical(pd_wall_beyond)
+            if (load.beyond_node < 0 || first < load.beyond_node) {
+                load.beyond_node = first;
+                load.beyond_wall = first_wall;
+            }
+        }
     }
     for (std::size_t w = 0; w < nw; ++w)
         for (int q = 0; q < 3; ++q) {
@@ -241,6 +260,7 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
         }
     load.touching = touching;
     load.energy = energy;
+    load.beyond = beyond;
     if (normal) {
         // Deterministic order whatever the thread schedule (bitwise restarts).
         std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) {

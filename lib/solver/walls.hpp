@@ -34,6 +34,11 @@ struct WallLoad {
     std::vector<double> moment; ///< 3 per wall, N m, about the wall's current rotation centre
     std::int64_t touching = 0;  ///< node-wall pairs in contact
     double energy = 0;          ///< J, wall springs 1/2 Kn (R_c - d)^2 V_i^2
+    /// Nodes more than h/2 (their body's mesh size) beyond a wall's surface: contact failed
+    /// (pd-solve stops, exit 3); one of them and its wall (-1: none).
+    std::int64_t beyond = 0;
+    std::int64_t beyond_node = -1;
+    std::int32_t beyond_wall = -1;
 };
 
 /// Normal contact force on a body from one wall in one evaluation (for damping).

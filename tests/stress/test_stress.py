@@ -275,18 +275,16 @@ ADVERSARIAL = [
 ]
 # Measured on this branch (see the table printed at the end of a run).
 ADVERSARIAL_XFAIL = {
-    # a node 6.3 h below the floor at 30 m/s: rigid-wall contact too soft for the impact, and no
-    # guard on rigid walls yet
-    "shatter_30ms": "rigid-wall contact: a node passes below the floor by more than h/2, "
-                    "exit 0",
     # since horizon = 3 mesh_size (issue 10 item 5) the auto Kn of these discs is lower: a node
     # 3.4e-5 m beyond R_c (bound h/2 = 1.8e-5 m), shallower than the guard's resolution (a node
     # within R_c of a node below the 2 R_c + h/2 surface layer)
     "tilted_1ms": TUNNEL,
 }
 # Scenes built to break the physics that pd-solve now stops (exit 3): soft_press, tip_drop and
-# tilted_10ms by the interpenetration guard, start_in_contact by the energy balance.
-ADVERSARIAL_GUARDED = {"soft_press", "tip_drop", "tilted_10ms", "start_in_contact"}
+# tilted_10ms by the interpenetration guard, shatter_30ms by the rigid-wall guard (a node 6.3 h
+# below the floor at 30 m/s before it), start_in_contact by the energy balance.
+ADVERSARIAL_GUARDED = {"soft_press", "tip_drop", "tilted_10ms", "start_in_contact",
+                       "shatter_30ms"}
 
 
 @pytest.mark.parametrize("name,make", [

@@ -270,3 +270,28 @@ TEST(Contact, NodesDeepInsideAnotherGrainAreFound) {
     EXPECT_EQ(inside_after_push(2e-4, 3.0), 0);
     EXPECT_GT(inside_after_push(8e-4, 3.0), 0);
 }
+
+TEST(Contact, NodesThroughARigidWallAreFound) {
+    // pd-solve's rigid-wall guard (exit 3): a node more than h/2 beyond a wall's surface.
+    auto beyond_after_drop = [](double drop) {
+        auto m = pipeline::build_scene(R"({"dimension": 2, "title": "t",
+          "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
+          "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
+          "particles": [{"radius": 1e-3, "center": [0, 1.2e-3], "material": "m"}],
+          "walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1]}],
+          "solver": {"final_time": 1e-3}})",
+                                       "t", quiet);
+        solver::Solver s(m);
+        auto& st = s.state();
+        double ymin = 1;
+        for (std::size_t i = 0; i < st.n; ++i)
+            ymin = std::min(ymin, st.x0[3 * i + 1]);
+        for (std::size_t i = 0; i < st.n; ++i) // lowest node at y = -drop
+            st.x[3 * i + 1] = st.x0[3 * i + 1] - ymin - drop;
+        s.initialize();
+        return s.observe().beyond_wall;
+    };
+    EXPECT_EQ(beyond_after_drop(-0.5e-4), 0); // 0.5 h above: in contact
+    EXPECT_EQ(beyond_after_drop(0.2e-4), 0);  // 0.2 h below: inside the bound (h/2 of the body)
+    EXPECT_GT(beyond_after_drop(2e-4), 0);    // 2 h below
+}
