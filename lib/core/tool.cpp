@@ -40,9 +40,16 @@ bool same_path(const std::string& a, const std::string& b) {
         if (!ec)
             return eq;
     }
-    const auto ca = fs::weakly_canonical(fs::absolute(a, ec), ec);
-    const auto cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
-    return ca == cb;
+    // Not both stat-able (a new output, or a directory this user cannot search): compare the
+    // resolved paths, or the lexical absolute paths where resolving fails (never two empty
+    // paths from two failures).
+    auto resolved = [](const std::string& p) {
+        std::error_code e;
+        const auto abs = fs::absolute(p, e).lexically_normal();
+        auto c = fs::weakly_canonical(abs, e);
+        return e || c.empty() ? abs : c;
+    };
+    return resolved(a) == resolved(b);
 }
 
 void check_output_file(const std::string& option, const std::string& path,
