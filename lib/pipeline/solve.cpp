@@ -561,10 +561,14 @@ void solve(const SolveOptions& opt, Context& ctx) {
                         vmax, dt, est.limit));
                 }
                 // Interpenetration: a node more than R_c + h/2 inside another grain.
-                if (opt.penetration_check && o.inside_pairs > 0) {
+                // A guard that fires keeps the row that failed in the file, then stops the run.
+                auto stop = [&](const std::string& why) {
                     obs.add(n, s.state().time, observable_row(o));
                     obs.flush();
-                    throw NumericalError(fmt::format(
+                    throw NumericalError(why);
+                };
+                if (opt.penetration_check && o.inside_pairs > 0) {
+                    stop(fmt::format(
                         "{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) "
                         "more than the contact radius + h/2 inside another grain{}. The contact "
                         "is too soft for this load or impact (raise contact.stiffness_factor or "
@@ -576,9 +580,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
                                            : std::string{}));
                 }
                 if (opt.penetration_check && o.beyond_wall > 0) {
-                    obs.add(n, s.state().time, observable_row(o));
-                    obs.flush();
-                    throw NumericalError(fmt::format(
+                    stop(fmt::format(
                         "{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
                         "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
                         "too soft for this impact (raise contact.stiffness_factor, lower the "
