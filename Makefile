@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
-.PHONY: all deps deps-test configure build test demo bench format format-check clean
+.PHONY: all deps deps-test configure build test demo bench examples examples-run format format-check clean
 
 all: build
 
@@ -29,6 +29,15 @@ test: deps-test build
 
 demo: build
 	@bash workflows/demo/run.sh $(BUILD)
+
+# Every example's CI-sized `make quick` (each checks its number; examples/run_quick.sh finds every
+# examples/*/Makefile with a quick: target). Outputs and logs in $(BUILD)/examples.
+# `make examples-run` skips the build step.
+examples: build
+	@bash examples/run_quick.sh $(BUILD)/bin $(BUILD)/examples
+
+examples-run:
+	@bash examples/run_quick.sh $(BUILD)/bin $(BUILD)/examples
 
 SOURCES = $(shell find lib tools tests workflows -name '*.cpp' -o -name '*.hpp')
 
