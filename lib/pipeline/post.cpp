@@ -141,13 +141,17 @@ void post(const PostOptions& opt, Context& ctx) {
                 post::write_vtu_series(f, model.nodes, out_dir.string(), stem, progress);
             frames = series.frames;
             pvd = series.pvd;
+            const auto walls = post::write_wall_series(f, model, out_dir.string(), stem);
+            if (!walls.pvd.empty())
+                made.push_back(fmt::format("{} wall frame(s) -> {}", walls.frames, walls.pvd));
         }
         if (opt.xdmf && has_frames) {
             const auto xmf = out_dir / (stem + ".xmf");
             // The HDF5 file is named relative to the .xmf, so the pair can move together.
             const auto ref = fs::relative(fs::absolute(file), fs::absolute(out_dir), ec);
             const auto n = post::write_xdmf(
-                f, xmf.string(), ec || ref.empty() ? fs::absolute(file).string() : ref.string());
+                f, xmf.string(), ec || ref.empty() ? fs::absolute(file).string() : ref.string(),
+                &model);
             made.push_back(fmt::format("{} frame(s) -> {}", n, xmf.string()));
         }
         if (opt.csv) {

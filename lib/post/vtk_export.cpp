@@ -6,11 +6,13 @@
 #include "core/errors.hpp"
 #include "h5/file.hpp"
 #include "post/text_out.hpp"
+#include "post/vtk_export_walls.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
 
 #include <fmt/format.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
 #include <vtkIdTypeArray.h>
@@ -58,6 +60,18 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
     s += "  </Collection>\n</VTKFile>\n";
     if (std::fputs(s.c_str(), out.get()) < 0 || std::fflush(out.get()) != 0)
         throw InputError(fmt::format("{}: write failed (disk full?)", path));
+}
+
+/// Removes `<stem>_<k:06>.vtu` for k = first, first + 1, ... while they exist: frames beyond the
+/// last one, left by an earlier export of a longer run, would join the series in ParaView's file
+/// grouping.
+void remove_stale_tail(const std::string& out_dir, const std::string& stem, std::size_t first) {
+    for (std::size_t k = first;; ++k) {
+        const auto stale = std::filesystem::path(out_dir) / fmt::format("{}_{:06d}.vtu", stem, k);
+        std::error_code ec;
+        if (!std::filesystem::remove(stale, ec))
+            break;
+    }
 }
 
 } // namespace
@@ -135,17 +149,72 @@ VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const s
         if (progress)
             progress("vtu", k + 1, frames.num_frames());
     }
-    // Frames beyond the last one, left by an earlier export of a longer run, would join the
-    // series in ParaView's file grouping: remove that contiguous tail of our own numbering.
-    for (std::size_t k = listed.size();; ++k) {
-        const auto stale = std::filesystem::path(out_dir) / fmt::format("{}_{:06d}.vtu", stem, k);
-        std::error_code ec;
-        if (!std::filesystem::remove(stale, ec))
-            break;
-    }
+    remove_stale_tail(out_dir, stem, listed.size());
     VtuSeries out;
     out.frames = listed.size();
     out.pvd = (std::filesystem::path(out_dir) / (stem + ".pvd")).string();
+    write_pvd(out.pvd, listed);
+    return out;
+}
+
+VtuSeries write_wall_series(const h5::File& f, const model::Model& m, const std::string& out_dir,
+                            const std::string& stem) {
+    VtuSeries out;
+    if (m.walls.empty())
+        return out;
+    store::FrameReader frames(f);
+    const auto extent = wall_extent(m.nodes);
+    const std::string wstem = stem + "_walls";
+    vtkNew<vtkXMLUnstructuredGridWriter> writer;
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    writer->SetCompressorTypeToZLib();
+    std::vector<std::pair<double, std::string>> listed;
+    for (std::size_t k = 0; k < frames.num_frames(); ++k) {
+        const auto o = wall_outline(m.walls, m.dimension, extent, frames.time(k));
+        const auto np = static_cast<vtkIdType>(o.num_points());
+        const auto nc = static_cast<vtkIdType>(o.num_cells());
+        vtkNew<vtkUnstructuredGrid> grid;
+        vtkNew<vtkPoints> points;
+        points->SetDataTypeToDouble();
+        points->SetNumberOfPoints(np);
+        for (vtkIdType i = 0; i < np; ++i)
+            points->SetPoint(i, o.points.data() + 3 * i);
+        grid->SetPoints(points);
+        vtkNew<vtkIdTypeArray> offsets;
+        vtkNew<vtkIdTypeArray> connectivity;
+        offsets->SetNumberOfValues(nc + 1);
+        for (vtkIdType c = 0; c <= nc; ++c)
+            offsets->SetValue(c, c * o.points_per_cell);
+        connectivity->SetNumberOfValues(static_cast<vtkIdType>(o.cells.size()));
+        for (std::size_t i = 0; i < o.cells.size(); ++i)
+            connectivity->SetValue(static_cast<vtkIdType>(i), o.cells[i]);
+        vtkNew<vtkCellArray> cells;
+        cells->SetData(offsets, connectivity);
+        grid->SetCells(o.points_per_cell == 4 ? VTK_QUAD : VTK_LINE, cells);
+        vtkNew<vtkIntArray> wall;
+        wall->SetName("wall");
+        wall->SetNumberOfValues(nc);
+        std::copy(o.wall.begin(), o.wall.end(), wall->GetPointer(0));
+        grid->GetCellData()->AddArray(wall);
+        vtkNew<vtkDoubleArray> velocity;
+        velocity->SetName("velocity");
+        velocity->SetNumberOfComponents(3);
+        velocity->SetNumberOfTuples(np);
+        std::copy(o.velocity.begin(), o.velocity.end(), velocity->GetPointer(0));
+        grid->GetPointData()->AddArray(velocity);
+
+        const std::string name = fmt::format("{}_{:06d}.vtu", wstem, k);
+        const std::string path = (std::filesystem::path(out_dir) / name).string();
+        writer->SetInputData(grid);
+        writer->SetFileName(path.c_str());
+        if (writer->Write() != 1)
+            throw InputError(fmt::format("{}: cannot write (VTK XML writer failed)", path));
+        listed.emplace_back(frames.time(k), name);
+    }
+    remove_stale_tail(out_dir, wstem, listed.size());
+    out.frames = listed.size();
+    out.pvd = (std::filesystem::path(out_dir) / (wstem + ".pvd")).string();
     write_pvd(out.pvd, listed);
     return out;
 }

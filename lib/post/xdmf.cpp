@@ -5,6 +5,7 @@
 #include "core/errors.hpp"
 #include "h5/file.hpp"
 #include "post/text_out.hpp"
+#include "post/vtk_export_walls.hpp"
 #include "store/frames.hpp"
 #include "store/schema.hpp"
 
@@ -13,6 +14,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <type_traits>
+#include <vector>
 
 namespace pd::post {
 
@@ -36,9 +39,58 @@ std::string hyperslab(std::size_t k, std::size_t frames, std::size_t n, int comp
         dims, vec ? 3 : 2, select, all, xml_escape(h5_ref), dataset);
 }
 
+/// `values` as the text of an inline XML DataItem, `per_line` to a line.
+template <class T>
+std::string inline_values(const std::vector<T>& values, std::size_t per_line) {
+    std::string s;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (i % per_line == 0)
+            s += "\n          ";
+        else
+            s += ' ';
+        if constexpr (std::is_floating_point_v<T>)
+            s += fmt::format("{:.17g}", values[i]);
+        else
+            s += fmt::format("{}", values[i]);
+    }
+    return s + "\n        ";
+}
+
+/// The rigid walls at time t as one Uniform grid with inline data.
+std::string wall_grid(const model::Model& m, const WallExtent& extent, std::size_t k, double t) {
+    const auto o = wall_outline(m.walls, m.dimension, extent, t);
+    const std::size_t nc = o.num_cells(), np = o.num_points();
+    const int pc = o.points_per_cell;
+    return fmt::format(
+        "    <Grid Name=\"walls_{}\" GridType=\"Uniform\">\n"
+        "      <Time Value=\"{:.17g}\"/>\n"
+        "      <Topology TopologyType=\"{}\" NumberOfElements=\"{}\"{}>\n"
+        "        <DataItem Dimensions=\"{} {}\" NumberType=\"Int\" Precision=\"8\" "
+        "Format=\"XML\">{}</DataItem>\n"
+        "      </Topology>\n"
+        "      <Geometry GeometryType=\"XYZ\">\n"
+        "        <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"XML\">{}</DataItem>\n"
+        "      </Geometry>\n"
+        "      <Attribute Name=\"wall\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+        "        <DataItem Dimensions=\"{}\" NumberType=\"Int\" Precision=\"4\" "
+        "Format=\"XML\">{}</DataItem>\n"
+        "      </Attribute>\n"
+        "      <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n"
+        "        <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"XML\">{}</DataItem>\n"
+        "      </Attribute>\n"
+        "    </Grid>\n",
+        k, t, pc == 4 ? "Quadrilateral" : "Polyline", nc, pc == 4 ? "" : " NodesPerElement=\"2\"",
+        nc, pc, inline_values(o.cells, static_cast<std::size_t>(pc) * 8), np,
+        inline_values(o.points, 3), nc, inline_values(o.wall, 16), np,
+        inline_values(o.velocity, 3));
+}
+
 } // namespace
 
-std::size_t write_xdmf(const h5::File& f, const std::string& xmf_path, const std::string& h5_ref) {
+std::size_t write_xdmf(const h5::File& f, const std::string& xmf_path, const std::string& h5_ref,
+                       const model::Model* m) {
     store::FrameReader frames(f);
     const std::string particles = store::path::particles;
     const auto fields = frames.fields();
@@ -91,7 +143,15 @@ std::size_t write_xdmf(const h5::File& f, const std::string& xmf_path, const std
         s += "    </Grid>\n";
         put(s);
     }
-    put("    </Grid>\n  </Domain>\n</Xdmf>\n");
+    put("    </Grid>\n");
+    if (m && !m->walls.empty()) {
+        const auto extent = wall_extent(m->nodes);
+        put("    <Grid Name=\"walls\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+        for (std::size_t k = 0; k < t; ++k)
+            put(wall_grid(*m, extent, k, frames.time(k)));
+        put("    </Grid>\n");
+    }
+    put("  </Domain>\n</Xdmf>\n");
     if (std::fflush(out.get()) != 0)
         throw InputError(fmt::format("{}: write failed (disk full?)", xmf_path));
     return t;

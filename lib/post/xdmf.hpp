@@ -3,7 +3,11 @@
 // Attributes are HyperSlab DataItems slicing frame k out of /particles/nodes/<field>/value
 // ([T][N][3] or [T][N]) in the HDF5 file itself, so ParaView's XDMFReader (legacy, XDMF 2) and
 // VisIt open the time series with no copy. body and volume come from /nodes (time-independent).
+// With a model that has rigid walls, a second temporal collection "walls" holds their outlines
+// at each frame's time (vtk_export_walls.hpp), inline as XML (a few hundred points per wall).
 #pragma once
+
+#include "model/model.hpp"
 
 #include <cstddef>
 #include <string>
@@ -18,6 +22,8 @@ namespace pd::post {
 /// the XML (a path relative to the .xmf, so the pair can be moved together). Only the frame
 /// metadata (steps, times, field names) is read. Returns the number of frames described. Throws
 /// SchemaError if /particles/nodes/position is missing, InputError if `xmf_path` cannot be written.
-std::size_t write_xdmf(const h5::File& f, const std::string& xmf_path, const std::string& h5_ref);
+/// `m`, if given, supplies the rigid walls.
+std::size_t write_xdmf(const h5::File& f, const std::string& xmf_path, const std::string& h5_ref,
+                       const model::Model* m = nullptr);
 
 } // namespace pd::post

@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: MIT
+// Rigid-wall outlines (see vtk_export_walls.hpp). No VTK here: xdmf.cpp uses them too.
+#include "post/vtk_export_walls.hpp"
+
+#include "model/functions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace pd::post {
+
+namespace {
+
+using V3 = std::array<double, 3>;
+
+V3 cross(const V3& a, const V3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const V3& a, const V3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+V3 unit(const V3& a) {
+    const double n = std::sqrt(dot(a, a));
+    return n > 0 ? V3{a[0] / n, a[1] / n, a[2] / n} : a;
+}
+
+/// Rotation of v by the rotation vector theta (Rodrigues), as solver/walls.cpp.
+V3 rotate(const V3& v, const V3& theta) {
+    const double a = std::sqrt(dot(theta, theta));
+    if (a == 0)
+        return v;
+    const V3 k{theta[0] / a, theta[1] / a, theta[2] / a};
+    const double c = std::cos(a), s = std::sin(a), kv = dot(k, v);
+    const V3 kxv = cross(k, v);
+    V3 r;
+    for (int d = 0; d < 3; ++d)
+        r[d] = v[d] * c + kxv[d] * s + k[d] * kv * (1 - c);
+    return r;
+}
+
+/// The wall's pose at time t: as solver::wall_pose (kept equal by a unit test).
+struct Pose {
+    V3 point, normal, centre, velocity, omega, theta;
+};
+Pose pose(const model::Wall& w, double t) {
+    Pose p;
+    double rate = 0;
+    const double T = model::time_function(w.motion, w.motion_params, t, &rate);
+    for (int d = 0; d < 3; ++d) {
+        p.theta[d] = w.angular_velocity[d] * T;
+        p.centre[d] = w.centre[d] + w.velocity[d] * T;
+        p.velocity[d] = w.velocity[d] * rate;
+        p.omega[d] = w.angular_velocity[d] * rate;
+    }
+    const V3 rel = rotate(
+        {w.point[0] - w.centre[0], w.point[1] - w.centre[1], w.point[2] - w.centre[2]}, p.theta);
+    for (int d = 0; d < 3; ++d)
+        p.point[d] = p.centre[d] + rel[d];
+    p.normal = rotate(w.normal, p.theta);
+    return p;
+}
+
+void add_point(WallOutline& o, const Pose& p, const V3& x) {
+    const V3 r{x[0] - p.centre[0], x[1] - p.centre[1], x[2] - p.centre[2]};
+    const V3 wr = cross(p.omega, r);
+    for (int d = 0; d < 3; ++d) {
+        o.points.push_back(x[d]);
+        o.velocity.push_back(p.velocity[d] + wr[d]);
+    }
+}
+
+} // namespace
+
+WallExtent wall_extent(const model::Nodes& nodes) {
+    WallExtent e;
+    const std::size_t n = nodes.x0.size() / 3;
+    if (n == 0)
+        return e;
+    V3 lo, hi;
+    lo.fill(std::numeric_limits<double>::max());
+    hi.fill(std::numeric_limits<double>::lowest());
+    for (std::size_t i = 0; i < n; ++i)
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = std::min(lo[d], nodes.x0[3 * i + d]);
+            hi[d] = std::max(hi[d], nodes.x0[3 * i + d]);
+        }
+    double diag = 0;
+    for (int d = 0; d < 3; ++d) {
+        e.centre[d] = 0.5 * (lo[d] + hi[d]);
+        diag += (hi[d] - lo[d]) * (hi[d] - lo[d]);
+    }
+    diag = std::sqrt(diag);
+    e.half = diag > 0 ? 0.6 * diag : 1e-3;
+    return e;
+}
+
+WallOutline wall_outline(const std::vector<model::Wall>& walls, int dimension,
+                         const WallExtent& extent, double t) {
+    WallOutline o;
+    o.points_per_cell = dimension == 3 ? 4 : 2;
+    constexpr double two_pi = 2 * std::numbers::pi;
+    for (std::size_t k = 0; k < walls.size(); ++k) {
+        const auto& w = walls[k];
+        const Pose p = pose(w, t);
+        const auto first = static_cast<std::int64_t>(o.num_points());
+        const auto wall = static_cast<std::int32_t>(k);
+        if (w.shape == model::WallShape::plane) {
+            const V3 n = unit(p.normal);
+            // The patch centre: the extent's centre projected onto the plane.
+            const V3 rel{extent.centre[0] - p.point[0], extent.centre[1] - p.point[1],
+                         extent.centre[2] - p.point[2]};
+            const double h = dot(rel, n);
+            const V3 c{extent.centre[0] - h * n[0], extent.centre[1] - h * n[1],
+                       extent.centre[2] - h * n[2]};
+            const double s = extent.half;
+            if (dimension != 3) {
+                const V3 e{-n[1], n[0], 0};
+                add_point(o, p, {c[0] - s * e[0], c[1] - s * e[1], c[2]});
+                add_point(o, p, {c[0] + s * e[0], c[1] + s * e[1], c[2]});
+                o.cells.insert(o.cells.end(), {first, first + 1});
+                o.wall.push_back(wall);
+            } else {
+                // Tangents: n x (the axis least aligned with n), then n x e1.
+                V3 a{0, 0, 0};
+                int m = 0;
+                for (int d = 1; d < 3; ++d)
+                    if (std::abs(n[d]) < std::abs(n[m]))
+                        m = d;
+                a[m] = 1;
+                const V3 e1 = unit(cross(n, a)), e2 = cross(n, e1);
+                for (const auto& [u, v] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}})
+                    add_point(o, p,
+                              {c[0] + s * (u * e1[0] + v * e2[0]),
+                               c[1] + s * (u * e1[1] + v * e2[1]),
+                               c[2] + s * (u * e1[2] + v * e2[2])});
+                o.cells.insert(o.cells.end(), {first, first + 1, first + 2, first + 3});
+                o.wall.push_back(wall);
+            }
+            continue;
+        }
+        // Circles (2D) and spheres (3D) about the current point, turned with the wall.
+        const double r = w.radius;
+        if (dimension != 3) {
+            constexpr int segments = 128;
+            for (int i = 0; i < segments; ++i) {
+                const double phi = two_pi * i / segments;
+                const V3 local = rotate({r * std::cos(phi), r * std::sin(phi), 0}, p.theta);
+                add_point(o, p, {p.point[0] + local[0], p.point[1] + local[1], p.point[2]});
+            }
+            for (int i = 0; i < segments; ++i) {
+                o.cells.insert(o.cells.end(), {first + i, first + (i + 1) % segments});
+                o.wall.push_back(wall);
+            }
+        } else {
+            constexpr int lat = 16, lon = 32;
+            for (int i = 0; i <= lat; ++i) {
+                const double th = std::numbers::pi * i / lat;
+                for (int j = 0; j < lon; ++j) {
+                    const double phi = two_pi * j / lon;
+                    const V3 local = rotate({r * std::sin(th) * std::cos(phi),
+                                             r * std::sin(th) * std::sin(phi), r * std::cos(th)},
+                                            p.theta);
+                    add_point(
+                        o, p,
+                        {p.point[0] + local[0], p.point[1] + local[1], p.point[2] + local[2]});
+                }
+            }
+            for (int i = 0; i < lat; ++i)
+                for (int j = 0; j < lon; ++j) {
+                    const auto a = first + i * lon + j, b = first + i * lon + (j + 1) % lon;
+                    o.cells.insert(o.cells.end(), {a, b, b + lon, a + lon});
+                    o.wall.push_back(wall);
+                }
+        }
+    }
+    return o;
+}
+
+} // namespace pd::post
