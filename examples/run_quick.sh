@@ -31,7 +31,8 @@ for name in "${names[@]}"; do
     /usr/bin/time -f '%U %S %e' -o "$out/$name.time" \
         make -C "$here/$name" quick BIN="$bin" OUT="$out/$name" >"$log" 2>&1
     rc=$?
-    read -r u s e <"$out/$name.time" 2>/dev/null || { u=0; s=0; e=0; }
+    # the last line (time puts "Command exited with non-zero status N" first)
+    read -r u s e < <(tail -n 1 "$out/$name.time" 2>/dev/null) || { u=0; s=0; e=0; }
     cpu=$(awk -v u="${u:-0}" -v s="${s:-0}" 'BEGIN { printf "%.1f", u + s }')
     if [ $rc -eq 0 ]; then
         status=passed

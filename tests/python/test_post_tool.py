@@ -26,7 +26,9 @@ def test_default_output_directory_and_provenance(pd_post, synthetic_file, tmp_pa
     out = tmp_path / "post"
     assert (out / "synthetic.pvd").is_file()
     assert sorted(p.name for p in out.glob("synthetic_*.vtu")) == [
-        "synthetic_%06d.vtu" % k for k in range(3)]
+        "synthetic_%06d.vtu" % k for k in range(3)] + [
+        "synthetic_walls_%06d.vtu" % k for k in range(3)]  # its rigid wall, one file per frame
+    assert (out / "synthetic_walls.pvd").is_file()
     assert (out / "observables.csv").is_file()
     assert "3 frame(s)" in r.stdout and "observables.csv" in r.stdout
     after = provenance(synthetic_file)
@@ -90,6 +92,9 @@ def test_stale_frames_removed(pd_post, synthetic_file, tmp_path):
     out.mkdir()
     for k in (3, 4):
         (out / ("synthetic_%06d.vtu" % k)).write_text("stale")
+        (out / ("synthetic_walls_%06d.vtu" % k)).write_text("stale")
     r = run(pd_post, synthetic_file, "-o", out)
     assert r.returncode == 0, r.stderr
-    assert sorted(p.name for p in out.glob("*.vtu")) == ["synthetic_%06d.vtu" % k for k in range(3)]
+    assert sorted(p.name for p in out.glob("*.vtu")) == [
+        "synthetic_%06d.vtu" % k for k in range(3)] + [
+        "synthetic_walls_%06d.vtu" % k for k in range(3)]
