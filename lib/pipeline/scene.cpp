@@ -1154,9 +1154,11 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                      k, close, rc);
     }
 
-    // Surface-layer nodes: within 2 R_c + h/2 of their grain's boundary (R_c the largest contact
-    // radius). A node of another grain within R_c of a node below the layer is more than
-    // R_c + h/2 inside: pd-solve's interpenetration guard (solver/contact.hpp Penetration).
+    // Surface-layer nodes: within R_c + h/2 + min(R_c, h) of their grain's boundary (R_c the
+    // largest contact radius; 2 R_c + h/2 when R_c <= h). A node of another grain within
+    // min(R_c, h) of a node below the layer is more than R_c + h/2 inside: pd-solve's
+    // interpenetration guard (solver/contact.hpp Penetration). The layer is no thicker than
+    // R_c + 1.5 h, so grains of a few R_c (R_c = 3 mesh_size) still have nodes below it.
     // Also the partitioner's weight. The contact search takes every node of grains near each
     // other, whatever its depth.
     {
@@ -1168,8 +1170,9 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             const auto& bd = refs.at(inst[b].shape).bdist;
             for (auto i = B.begin(b); i < B.end(b); ++i) {
                 const auto k = static_cast<std::size_t>(i - B.begin(b));
+                const double h = B.mesh_size[b];
                 m.nodes.surface[static_cast<std::size_t>(i)] =
-                    bd[k] * B.scale[b] <= 2 * rc_max + 0.5 * B.mesh_size[b] ? 1 : 0;
+                    bd[k] * B.scale[b] <= rc_max + 0.5 * h + std::min(rc_max, h) ? 1 : 0;
             }
         }
     }
