@@ -29,9 +29,9 @@ ContactList::ContactList(const model::Model& m, double skin)
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
     owned_.assign(m.nodes.num(), 1);
-    // Nodes below their grain's surface layer (pd-pack: deeper than 2 R_c + h/2 from the
-    // reference boundary): a node of another grain within R_c of one is more than R_c + h/2
-    // inside this grain. Files without the layer flag: no check.
+    // Nodes below their grain's surface layer (pd-pack: deeper than R_c + h/2 + min(R_c, h)
+    // from the reference boundary): a node of another grain within min(R_c, h) of one is more
+    // than R_c + h/2 inside this grain. Files without the layer flag: no check.
     if (!m.nodes.surface.empty()) {
         deep_.resize(m.nodes.num());
         bool any = false;

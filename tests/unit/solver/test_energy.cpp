@@ -267,9 +267,10 @@ std::int64_t inside_after_push(double push, double radius_factor, double disc = 
 } // namespace
 
 TEST(Contact, NodesDeepInsideAnotherGrainAreFound) {
-    // The guard of pd-solve (exit 3): a node within R_c of a node below the other grain's surface
-    // layer (2 R_c + h/2) is more than R_c + h/2 inside it. Pressed by one mesh size (R_c =
-    // 0.95 h) or two (R_c = 3 h) grains are not flagged; pressed 4 h (8 h) they are.
+    // The guard of pd-solve (exit 3): a node within min(R_c, h) of a node below the other
+    // grain's surface layer (R_c + h/2 + min(R_c, h)) is more than R_c + h/2 inside it. Pressed by
+    // one mesh size (R_c = 0.95 h) or two (R_c = 3 h) grains are not flagged; pressed 4 h (8 h)
+    // they are.
     EXPECT_EQ(inside_after_push(0.0, 0.95), 0);
     EXPECT_EQ(inside_after_push(1e-4, 0.95), 0);
     EXPECT_GT(inside_after_push(4e-4, 0.95), 0);
