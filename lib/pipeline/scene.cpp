@@ -881,6 +881,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
 
     // Place instances: x = t + s R(theta) X, volumes x s^d, h x s (spec 2.5).
     auto& B = m.bodies;
+    std::vector<double> h_nominal_of; // per body: its shape's nominal mesh size (contact radius)
     for (std::size_t k = 0; k < inst.size(); ++k) {
         const auto& d = inst[k];
         const auto& r = refs.at(d.shape);
@@ -918,6 +919,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                                           d.where, delta, h));
         B.mesh_size.push_back(h);
         B.horizon.push_back(delta);
+        h_nominal_of.push_back(h_nominal);
     }
     check_overlaps(m, inst, shapes);
     {
@@ -1014,8 +1016,9 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     // per pair of groups under "pairs".
     const json empty = json::object();
     const json& c = root.contains("contact") ? root["contact"] : empty;
-    const std::vector<std::string> law_keys = {"radius_factor",    "radius",      "stiffness",
-                                               "stiffness_factor", "restitution", "friction"};
+    const std::vector<std::string> law_keys = {
+        "radius_factor", "radius",  "radius_mesh_factor", "stiffness", "stiffness_factor",
+        "restitution",   "friction"};
     auto with = [](std::vector<std::string> v, std::initializer_list<std::string> more) {
         v.insert(v.end(), more);
         return v;
@@ -1039,9 +1042,36 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
         model::ContactPair p = base ? *base : model::ContactPair{};
         p.group_a = ga;
         p.group_b = gb;
+        const int radius_keys = int(o.contains("radius")) + int(o.contains("radius_factor")) +
+                                int(o.contains("radius_mesh_factor"));
+        if (radius_keys > 1)
+            throw ConfigError(w, "give at most one of radius (m), radius_factor (multiple of the "
+                                 "smallest node spacing) or radius_mesh_factor (multiple of "
+                                 "mesh_size)");
+        // The node spacing of the stiffness rule below: the smallest node spacing of the scene
+        // (PeriDEM), or with radius_mesh_factor (here or inherited from the default law) the
+        // pair's nominal mesh size, so that Kn R_c^(d+1) keeps the contact layer's pressure per
+        // overlap tied to the same h as R_c.
+        const bool mesh_radius = o.contains("radius_mesh_factor") ||
+                                 (base && c.contains("radius_mesh_factor") &&
+                                  !o.contains("radius") && !o.contains("radius_factor"));
+        double h_pair = 0;
+        for (std::size_t b = 0; b < B.num(); ++b)
+            if (B.group[b] == ga || B.group[b] == gb)
+                h_pair = std::max(h_pair, h_nominal_of[b]);
+        if (!(h_pair > 0))
+            h_pair = h_ref;
+        const double h_law = mesh_radius ? h_pair : hmin;
         if (o.contains("radius"))
             p.radius = positive(o, w, "radius", 0);
-        else if (o.contains("radius_factor") || !base)
+        else if (o.contains("radius_mesh_factor")) {
+            // R_c = factor x the coarser nominal mesh size of the two groups (the shapes'
+            // mesh_size, else the scene's; a rigid wall's group takes the grains'): at R_c >= 3
+            // h a node always has several partner nodes in reach, so it cannot slip through the
+            // gap between two nodes of the other grain (R_c = 0.95 h_min lets a sharp tip or a
+            // hard press push a node through; README "Contact"), and R_c -> 0 with h.
+            p.radius = positive(o, w, "radius_mesh_factor", 0) * h_pair;
+        } else if (o.contains("radius_factor") || !base)
             p.radius = positive(o, w, "radius_factor", 0.95) * hmin;
         if (o.contains("restitution") || !base) {
             p.restitution = number(o, w, "restitution", 1.0);
@@ -1074,7 +1104,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                 kb = ka;
             const double kappa = ka > 0 ? 2 * ka * kb / (ka + kb) : 0;
             p.stiffness = 18.0 * kappa / (std::numbers::pi * std::pow(delta_max, m.dimension + 2)) *
-                          std::pow(0.95 * hmin / p.radius, m.dimension + 1) *
+                          std::pow(0.95 * h_law / p.radius, m.dimension + 1) *
                           number(o, w, "stiffness_factor", 1.0);
         }
         return p;
@@ -1124,9 +1154,11 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                      k, close, rc);
     }
 
-    // Surface-layer nodes: within 2 R_c + h/2 of their grain's boundary (R_c the largest contact
-    // radius). A node of another grain within R_c of a node below the layer is more than
-    // R_c + h/2 inside: pd-solve's interpenetration guard (solver/contact.hpp Penetration).
+    // Surface-layer nodes: within R_c + h/2 + min(R_c, h) of their grain's boundary (R_c the
+    // largest contact radius; 2 R_c + h/2 when R_c <= h). A node of another grain within
+    // min(R_c, h) of a node below the layer is more than R_c + h/2 inside: pd-solve's
+    // interpenetration guard (solver/contact.hpp Penetration). The layer is no thicker than
+    // R_c + 1.5 h, so grains of a few R_c (R_c = 3 mesh_size) still have nodes below it.
     // Also the partitioner's weight. The contact search takes every node of grains near each
     // other, whatever its depth.
     {
@@ -1138,8 +1170,9 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             const auto& bd = refs.at(inst[b].shape).bdist;
             for (auto i = B.begin(b); i < B.end(b); ++i) {
                 const auto k = static_cast<std::size_t>(i - B.begin(b));
+                const double h = B.mesh_size[b];
                 m.nodes.surface[static_cast<std::size_t>(i)] =
-                    bd[k] * B.scale[b] <= 2 * rc_max + 0.5 * B.mesh_size[b] ? 1 : 0;
+                    bd[k] * B.scale[b] <= rc_max + 0.5 * h + std::min(rc_max, h) ? 1 : 0;
             }
         }
     }

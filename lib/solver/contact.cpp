@@ -29,9 +29,9 @@ ContactList::ContactList(const model::Model& m, double skin)
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
     owned_.assign(m.nodes.num(), 1);
-    // Nodes below their grain's surface layer (pd-pack: deeper than 2 R_c + h/2 from the
-    // reference boundary): a node of another grain within R_c of one is more than R_c + h/2
-    // inside this grain. Files without the layer flag: no check.
+    // Nodes below their grain's surface layer (pd-pack: deeper than R_c + h/2 + min(R_c, h)
+    // from the reference boundary): a node of another grain within min(R_c, h) of one is more
+    // than R_c + h/2 inside this grain. Files without the layer flag: no check.
     if (!m.nodes.surface.empty()) {
         deep_.resize(m.nodes.num());
         bool any = false;
@@ -42,6 +42,11 @@ ContactList::ContactList(const model::Model& m, double skin)
         if (!any)
             deep_.clear();
     }
+    // Guard distance per body: min(R_c, h) (the layer is R_c + h/2 + that deep); files whose
+    // layer is 2 R_c + h/2 deep (pd-file 1.2) satisfy the same bound.
+    rho_.resize(m.bodies.num());
+    for (std::size_t b = 0; b < rho_.size(); ++b)
+        rho_[b] = std::min(rc_max_, m.bodies.mesh_size[b]);
 }
 
 bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit) {
@@ -91,7 +96,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                 if (r2 >= law.radius * law.radius)
                     continue;
                 const double r = std::sqrt(r2);
-                if (!deep_.empty() && deep_[static_cast<std::size_t>(j)]) {
+                if (!deep_.empty() && deep_[static_cast<std::size_t>(j)] &&
+                    r < rho_[static_cast<std::size_t>(s.body[static_cast<std::size_t>(j)])]) {
                     ++inside; // i is more than R_c + h/2 inside j's grain
                     if (first_node < 0) {
                         first_node = i;

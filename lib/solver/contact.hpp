@@ -29,11 +29,14 @@ struct BodyPairForce {
     bool damped;     ///< the law has restitution < 1
 };
 
-/// Interpenetration found by ContactList::add_forces(): a node within R_c of a node of another
-/// grain that lies below that grain's surface layer (reference depth > 2 R_c + h/2, pd-pack's
-/// /nodes/surface), so the node is more than R_c + h/2 inside the other grain (the bound of the
-/// stress suite's check). Contact has failed there (too soft for the load or the impact) and no
-/// later step pushes the node back out: pd-solve stops with exit 3.
+/// Interpenetration found by ContactList::add_forces(): a node within min(R_c, h) of a node of
+/// another grain that lies below that grain's surface layer (reference depth > R_c + h/2 +
+/// min(R_c, h), pd-pack's /nodes/surface; h that grain's smallest node spacing, R_c the largest
+/// contact radius), so the node is more than R_c + h/2 inside the other grain (the bound of the
+/// stress suite's check). In a grain whose nodes leave no hole wider than 0.7 h, a node deeper
+/// than R_c + 1.2 h + min(R_c, h) always has such a node within reach when R_c >= 0.7 h. Contact
+/// has failed there (too soft for the load or the impact) and no later step pushes the node back
+/// out: pd-solve stops with exit 3.
 struct Penetration {
     std::int64_t count = 0;   ///< such node pairs (this rank's rows, last evaluation)
     std::int64_t node = -1;   ///< the smallest node of them
@@ -93,6 +96,7 @@ class ContactList {
     bool built_ = false;
     bool any_friction_ = false;
     std::vector<std::uint8_t> deep_; ///< 1 = below its grain's surface layer (empty: no check)
+    std::vector<double> rho_;        ///< per body: the guard distance min(R_c, h), m
     mutable Penetration inside_;
     std::int64_t rebuilds_ = 0;
 };

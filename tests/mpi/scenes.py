@@ -81,7 +81,12 @@ MESHED_WALLS = {  # three discs between a fixed meshed floor and a driven meshed
     "solver": {"final_time": 3e-4, "output_interval": 5e-5, "fields": ["velocity", "force"]},
 }
 
+# The same discs with the contact radius tied to the mesh (3 x mesh_size, issue 10): some 10x
+# more node pairs in contact, the surface-layer guard with its min(R_c, h) distance.
+TWO_DISCS_3H = dict(TWO_DISCS, contact={"radius_mesh_factor": 3, "stiffness": "auto"})
+
 SCENES = {"two_discs": (TWO_DISCS, {2: "grain", 4: "node"}),
+          "two_discs_3h": (TWO_DISCS_3H, {2: "grain", 4: "node"}),
           "pack50": (PACK50, {2: "grain", 4: "grain"}),
           "plate": (PLATE, {2: "node", 4: "node"}),
           "meshed_walls": (MESHED_WALLS, {2: "grain", 4: "grain"})}

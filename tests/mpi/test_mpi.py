@@ -98,7 +98,7 @@ def worst_difference(fa, fb):
     return frames, obs, all(damage)
 
 
-@pytest.mark.parametrize("name", ["two_discs", "pack50", "plate"])
+@pytest.mark.parametrize("name", ["two_discs", "two_discs_3h", "pack50", "plate"])
 def test_same_answers_at_1_2_4_ranks(tmp_path, name):
     base, by = pack(tmp_path, name)
     ref = run(tmp_path, base, by, 1)

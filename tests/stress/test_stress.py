@@ -119,19 +119,14 @@ EXAMPLE_RUNS = {
 }
 FRAMES = 20
 # Examples that break a check and exit 0 today (measured on this branch; see the table).
-TUNNEL = ("grains interpenetrate deeper than R_c + h/2 and pd-solve exits 0: the contact search "
-          "meets every node (issue 10 item 1), but the linear node-pair penalty, bounded by "
-          "Kn R_c V_i V_j per pair, is too soft for the load at R_c about h, and the overlap is "
-          "below the resolution of pd-solve's interpenetration guard")
 EXAMPLE_XFAIL = {}
-# Examples whose physics breaks at the shipped settings and that pd-solve now stops (exit 3,
-# interpenetration guard): the rule (broken => exit 3) holds; exit 0 is allowed only when every
-# check passes. Measured: ellipse_on_tip (both laws) stops when the ring's nodes pass more than
-# R_c + h/2 into the tip (the tip's apex pierces the ring); compressive_small_hard when the plate
-# at 0.6 m/s pierces a grain (t = 1.6 ms). compressive_small itself, with contact
-# stiffness_factor 10, stays clean (pen -0.02 mm, wall pen 0.016 mm against 0.07 mm).
-EXAMPLE_GUARDED = {"compressive_small/scene_hard.json", "ellipse_on_tip/scene_lps.json",
-                   "ellipse_on_tip/scene_pmb.json"}
+# Examples whose physics breaks at the shipped settings and that pd-solve stops (exit 3): none
+# since the contact radius of compressive_small and ellipse_on_tip is tied to the nominal mesh
+# size (contact.radius_mesh_factor 3). At R_c = 0.95 h_min the apex of the tip pierced the ring
+# (both laws) and the plate at 0.6 m/s pierced a grain (compressive_small_hard, t = 1.6 ms): a
+# node slipped through the gap between two nodes of the other grain; stiffness alone did not help
+# (ellipse_on_tip_pmb at stiffness_factor 100 still stops at t = 0.26 ms). Now every check passes.
+EXAMPLE_GUARDED = set()
 
 
 def example_params():
@@ -192,9 +187,15 @@ def soft_press():
             "solver": {"final_time": 1.5e-3, "output_interval": 1.5e-4}}
 
 
-def tip_drop():
+def tip_drop(radius_mesh_factor=None, stiffness_factor=1):
     """An LPS disc (R = 1.5 mm, M1, breakable) falling at 5 m/s onto a fixed needle (a triangle
-    0.8 mm wide at its base, 3 mm tall: a 15 degree tip)."""
+    0.8 mm wide at its base, 3 mm tall: a 15 degree tip). Contact radius 0.95 x the smallest
+    node spacing (the needle's, 0.04 mm), or radius_mesh_factor x mesh_size."""
+    contact = {"radius_factor": 0.95, "stiffness": "auto", "restitution": 1.0, "friction": 0,
+               "stiffness_factor": stiffness_factor}
+    if radius_mesh_factor:
+        del contact["radius_factor"]
+        contact["radius_mesh_factor"] = radius_mesh_factor
     return {"dimension": 2, "materials": {"m1": M1_LPS,
                                           "needle": dict(M1_LPS, fracture_energy=0)},
             "discretization": {"mesh_size": 1.5e-4, "horizon_factor": 3},
@@ -204,8 +205,7 @@ def tip_drop():
                            "velocity": [0, -5], "group": 0},
                           {"shape": "needle", "center": [0, 0], "material": "needle",
                            "fixed": True, "group": 1}],
-            "contact": {"radius_factor": 0.95, "stiffness": "auto", "restitution": 1.0,
-                        "friction": 0},
+            "contact": contact,
             "loading": {"gravity": [0, -10]},
             "solver": {"final_time": 6e-4, "output_interval": 6e-5}}
 
@@ -223,10 +223,10 @@ def shatter():
             "solver": {"final_time": 1.2e-4, "output_interval": 1.2e-5}}
 
 
-def tilted(speed):
+def tilted(speed, contact=None):
     """A small PMB disc (R = 0.5 mm) hits a large LPS disc (R = 1 mm) at rest, off-centre
     (impact parameter 0.6 of the radii sum), its velocity tilted 30 degrees: free bodies, so
-    momentum must be conserved."""
+    momentum must be conserved. `contact`: the contact table (default: R_c = 3 mesh_size)."""
     import math
     a = math.radians(30)
     d = 1.5e-3 + 2e-4  # centre distance along the approach at start
@@ -238,8 +238,8 @@ def tilted(speed):
             "particles": [{"radius": 1e-3, "center": [0, 0], "material": "big"},
                           {"radius": 5e-4, "center": [cx, cy], "material": "small",
                            "velocity": [speed * ux, speed * uy]}],
-            "contact": {"radius_factor": 0.95, "stiffness": "auto", "restitution": 1.0,
-                        "friction": 0},
+            "contact": contact or {"radius_mesh_factor": 3, "stiffness": "auto",
+                                   "restitution": 1.0, "friction": 0},
             "solver": {"final_time": 2e-4 / speed * 2 + 2e-4, "output_interval": 0}}
 
 
@@ -272,18 +272,19 @@ ADVERSARIAL = [
     ("shatter_30ms", shatter),
     ("tilted_1ms", lambda: tilted(1.0)),
     ("tilted_10ms", lambda: tilted(10.0)),
+    ("tilted_10ms_rc095", lambda: tilted(10.0, {"radius_factor": 0.95, "stiffness": "auto",
+                                                "restitution": 1.0, "friction": 0})),
+    ("tip_drop_rc3h", lambda: tip_drop(3, 10)),
 ]
 # Measured on this branch (see the table printed at the end of a run).
-ADVERSARIAL_XFAIL = {
-    # since horizon = 3 mesh_size (issue 10 item 5) the auto Kn of these discs is lower: a node
-    # 3.4e-5 m beyond R_c (bound h/2 = 1.8e-5 m), shallower than the guard's resolution (a node
-    # within R_c of a node below the 2 R_c + h/2 surface layer)
-    "tilted_1ms": TUNNEL,
-}
-# Scenes built to break the physics that pd-solve now stops (exit 3): soft_press, tip_drop and
-# tilted_10ms by the interpenetration guard, shatter_30ms by the rigid-wall guard (a node 6.3 h
-# below the floor at 30 m/s before it), start_in_contact by the energy balance.
-ADVERSARIAL_GUARDED = {"soft_press", "tip_drop", "tilted_10ms", "start_in_contact",
+ADVERSARIAL_XFAIL = {}
+# Scenes built to break the physics that pd-solve stops (exit 3): soft_press and tip_drop (R_c =
+# 0.95 h_min: the needle's node spacing, 0.04 mm) and tilted_10ms_rc095 by the interpenetration
+# guard, shatter_30ms by the rigid-wall guard (a node 6.3 h below the floor at 30 m/s before
+# it), start_in_contact by the energy balance. The tilted discs at R_c = 3 mesh_size (tilted_1ms
+# was a node 3.4e-5 m beyond R_c with exit 0 at R_c = 0.95 h_min; tilted_10ms stopped by the
+# guard) and the needle at R_c = 3 mesh_size with stiffness_factor 10 (tip_drop_rc3h) run clean.
+ADVERSARIAL_GUARDED = {"soft_press", "tip_drop", "tilted_10ms_rc095", "start_in_contact",
                        "shatter_30ms"}
 
 

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace {
 
 using namespace pd;
@@ -108,3 +110,25 @@ TEST(Scene, TwoOfEKGNuAndToughness) {
 }
 
 } // namespace
+
+TEST(Scene, ContactRadiusTiedToMeshSize) {
+    // radius_mesh_factor: R_c = factor x mesh_size (not x the smallest node spacing), and the
+    // auto Kn's (0.95 h / R_c)^(d+1) on the same h: against the same R_c given in metres (whose
+    // Kn takes the smallest spacing h_min), Kn is (mesh_size / h_min)^3 larger in 2D.
+    const std::string two =
+        std::string(one) + R"(, {"radius": 1e-3, "center": [3e-3, 0], "material": "m1"})";
+    auto by_mesh = pipeline::build_scene(
+        base(two, R"("horizon_factor": 3)", R"("contact": {"radius_mesh_factor": 3},)"), "s",
+        quiet);
+    auto by_metre = pipeline::build_scene(
+        base(two, R"("horizon_factor": 3)", R"("contact": {"radius": 6e-4},)"), "s", quiet);
+    ASSERT_EQ(by_mesh.contact.size(), 1u);
+    EXPECT_NEAR(by_mesh.contact[0].radius, 6e-4, 1e-15);
+    const double hmin = by_mesh.bodies.mesh_size[0];
+    EXPECT_LT(hmin, 1.9e-4); // gmsh's smallest spacing is below mesh_size
+    EXPECT_NEAR(by_mesh.contact[0].stiffness / by_metre.contact[0].stiffness,
+                std::pow(2e-4 / hmin, 3), 1e-9);
+    const auto e = error_of(base(one, R"("horizon_factor": 3)",
+                                 R"("contact": {"radius_factor": 1, "radius_mesh_factor": 3},)"));
+    EXPECT_NE(e.find("at most one of radius"), std::string::npos) << e;
+}

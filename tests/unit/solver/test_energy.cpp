@@ -230,15 +230,21 @@ namespace {
 /// Two discs, the right one moved left until the nearest nodes are 0.5 R_c apart, then `push`
 /// (m) further: node pairs the contact finds with a node more than R_c + h/2 inside the other
 /// grain.
-std::int64_t inside_after_push(double push, double radius_factor) {
+std::int64_t inside_after_push(double push, double radius_factor, double disc = 1e-3,
+                               const char* radius_key = "radius_factor") {
     using namespace pd;
+    const std::string r = std::to_string(disc), c = std::to_string(1.2 * disc);
     const std::string sc = R"({"dimension": 2, "title": "t",
       "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
       "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
-      "particles": [{"radius": 1e-3, "center": [-1.2e-3, 0], "material": "m"},
-                    {"radius": 1e-3, "center": [1.2e-3, 0], "material": "m", "orientation": 0.3}],
-      "contact": {"radius_factor": )" +
-                           std::to_string(radius_factor) + R"(},
+      "particles": [{"radius": )" +
+                           r + R"(, "center": [-)" + c +
+                           R"(, 0], "material": "m"},
+                    {"radius": )" +
+                           r + R"(, "center": [)" + c +
+                           R"(, 0], "material": "m", "orientation": 0.3}],
+      "contact": {")" + radius_key +
+                           R"(": )" + std::to_string(radius_factor) + R"(},
       "solver": {"final_time": 1e-3}})";
     auto m = pipeline::build_scene(sc, "t", quiet);
     solver::Solver s(m);
@@ -261,14 +267,25 @@ std::int64_t inside_after_push(double push, double radius_factor) {
 } // namespace
 
 TEST(Contact, NodesDeepInsideAnotherGrainAreFound) {
-    // The guard of pd-solve (exit 3): a node within R_c of a node below the other grain's surface
-    // layer (2 R_c + h/2) is more than R_c + h/2 inside it. Pressed by one mesh size (R_c =
-    // 0.95 h) or two (R_c = 3 h) grains are not flagged; pressed 4 h (8 h) they are.
+    // The guard of pd-solve (exit 3): a node within min(R_c, h) of a node below the other
+    // grain's surface layer (R_c + h/2 + min(R_c, h)) is more than R_c + h/2 inside it. Pressed by
+    // one mesh size (R_c = 0.95 h) or two (R_c = 3 h) grains are not flagged; pressed 4 h (8 h)
+    // they are.
     EXPECT_EQ(inside_after_push(0.0, 0.95), 0);
     EXPECT_EQ(inside_after_push(1e-4, 0.95), 0);
     EXPECT_GT(inside_after_push(4e-4, 0.95), 0);
     EXPECT_EQ(inside_after_push(2e-4, 3.0), 0);
     EXPECT_GT(inside_after_push(8e-4, 3.0), 0);
+}
+
+TEST(Contact, NodesDeepInsideSmallGrainsAreFoundAtLargeRadius) {
+    // R_c = 3 mesh_size = 0.3 mm on discs of 0.6 mm: a surface layer 2 R_c + h/2 deep (0.64
+    // mm) left no node below it, so the guard never fired; the layer R_c + h/2 + min(R_c, h)
+    // (0.41 mm, h = 0.07 mm the smallest spacing) leaves a core. Pressed by one mesh size the
+    // grains are not flagged; pressed 0.6 mm (a node about 0.45 mm inside: R_c + 2 h) they are.
+    EXPECT_EQ(inside_after_push(0.0, 3.0, 6e-4, "radius_mesh_factor"), 0);
+    EXPECT_EQ(inside_after_push(1e-4, 3.0, 6e-4, "radius_mesh_factor"), 0);
+    EXPECT_GT(inside_after_push(6e-4, 3.0, 6e-4, "radius_mesh_factor"), 0);
 }
 
 TEST(Contact, NodesThroughARigidWallAreFound) {
