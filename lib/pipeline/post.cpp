@@ -7,6 +7,7 @@
 #include "h5/file.hpp"
 #include "post/check.hpp"
 #include "post/crack.hpp"
+#include "post/crack_arrival.hpp"
 #include "post/csv.hpp"
 #include "post/grains.hpp"
 #include "post/vtk_export.hpp"
@@ -83,6 +84,7 @@ void post(const PostOptions& opt, Context& ctx) {
     };
     point(opt.crack_origin, "--crack-origin", crack_opt.origin);
     point(opt.crack_direction, "--crack-direction", crack_opt.direction);
+    point(opt.crack_axis, "--crack-axis", crack_opt.axis);
 
     namespace fs = std::filesystem;
     const fs::path file(opt.file);
@@ -177,6 +179,13 @@ void post(const PostOptions& opt, Context& ctx) {
             const auto csv = out_dir / "crack.csv";
             const auto n = post::write_crack_csv(f, crack_opt, csv.string(), progress);
             made.push_back(fmt::format("{} crack row(s) -> {}", n, csv.string()));
+            const auto fit = post::write_crack_arrivals(
+                f, model, crack_opt, (out_dir / "crack_nodes.csv").string(),
+                (out_dir / "crack_summary.csv").string(), progress);
+            made.push_back(fmt::format("crack path: {} nodes, angle {:.2f} deg ({:.2f} deg to "
+                                       "the axis), mean speed {:.4g} m/s -> {}",
+                                       fit.nodes, fit.angle_deg, fit.angle_to_axis_deg,
+                                       fit.mean_speed, (out_dir / "crack_summary.csv").string()));
         }
     }
     std::string summary = fmt::format("pd-post: {}:", opt.file);
