@@ -23,6 +23,7 @@
 #include <array>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -182,10 +183,14 @@ void post(const PostOptions& opt, Context& ctx) {
             const auto fit = post::write_crack_arrivals(
                 f, model, crack_opt, (out_dir / "crack_nodes.csv").string(),
                 (out_dir / "crack_summary.csv").string(), progress);
-            made.push_back(fmt::format("crack path: {} nodes, angle {:.2f} deg ({:.2f} deg to "
-                                       "the axis), mean speed {:.4g} m/s -> {}",
-                                       fit.nodes, fit.angle_deg, fit.angle_to_axis_deg,
-                                       fit.mean_speed, (out_dir / "crack_summary.csv").string()));
+            const std::string to_axis =
+                std::isnan(fit.angle_to_axis_deg)
+                    ? std::string()
+                    : fmt::format(" ({:.2f} deg to the axis)", fit.angle_to_axis_deg);
+            made.push_back(fmt::format("crack path: {} nodes, angle {:.2f} deg{}, mean speed "
+                                       "{:.4g} m/s -> {}",
+                                       fit.nodes, fit.angle_deg, to_axis, fit.mean_speed,
+                                       (out_dir / "crack_summary.csv").string()));
         }
     }
     std::string summary = fmt::format("pd-post: {}:", opt.file);
@@ -194,8 +199,11 @@ void post(const PostOptions& opt, Context& ctx) {
     if (opt.csv)
         summary += fmt::format("{} {} observable row(s) -> {}", opt.vtu ? ";" : "", rows,
                                rows ? (out_dir / "observables.csv").string() : "(none)");
-    for (const auto& m : made)
-        summary += "; " + m;
+    bool first = !opt.vtu && !opt.csv;
+    for (const auto& m : made) {
+        summary += (first ? " " : "; ") + m;
+        first = false;
+    }
     ctx.log.info("{}", summary);
 }
 
