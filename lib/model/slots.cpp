@@ -55,6 +55,15 @@ bool slot_contains(const Slot& s, const double* x) {
     return u > 0 && u < f.length && std::abs(v) < f.half;
 }
 
+double slot_distance(const Slot& s, const double* x) {
+    const Frame f = frame(s);
+    double u, v;
+    local(f, x, u, v);
+    const double du = std::max({0.0, -u, u - f.length});
+    const double dv = std::max(0.0, std::abs(v) - std::max(0.0, f.half));
+    return std::hypot(du, dv);
+}
+
 bool slot_cuts(const Slot& s, const double* a, const double* b) {
     if (!(s.width > 0))
         return cross(a, b, s.p0.data(), s.p1.data());

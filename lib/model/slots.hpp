@@ -24,6 +24,9 @@ struct Slot {
 /// for width 0.
 bool slot_contains(const Slot& s, const double* x);
 
+/// Distance (m, xy plane) from x to the slot's rectangle (0 inside); to the segment for width 0.
+double slot_distance(const Slot& s, const double* x);
+
 /// True if the segment a-b runs through the slot: for width > 0 a piece of positive length lies
 /// inside the closed rectangle (a bond sliding along its edge or touching a corner is kept); for
 /// width 0 the segments a-b and p0-p1 cross (as pre-cracks).

@@ -1161,6 +1161,17 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                              number(sj, w, "width", 0, true)});
         }
         const auto cut = model::apply_slots(m, slots);
+        // The notch faces are boundary: nodes near a slot join the surface layer (as above).
+        double rc_max = 0;
+        for (const auto& p : m.contact)
+            rc_max = std::max(rc_max, p.radius);
+        for (std::size_t i = 0; i < m.nodes.num(); ++i) {
+            const double layer =
+                2 * rc_max + 0.5 * B.mesh_size[static_cast<std::size_t>(m.nodes.body[i])];
+            for (const auto& sl : slots)
+                if (model::slot_distance(sl, &m.nodes.x0[3 * i]) <= layer)
+                    m.nodes.surface[i] = 1;
+        }
         for (std::size_t k = 0; k < slots.size(); ++k)
             log.info("slots[{}]: {} nodes inside removed, {} bonds through it never exist", k,
                      cut.nodes_per_slot[k], cut.bonds_per_slot[k]);
