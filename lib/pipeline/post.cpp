@@ -7,6 +7,7 @@
 #include "h5/file.hpp"
 #include "post/check.hpp"
 #include "post/crack.hpp"
+#include "post/crack_arrival.hpp"
 #include "post/csv.hpp"
 #include "post/grains.hpp"
 #include "post/vtk_export.hpp"
@@ -22,6 +23,7 @@
 #include <array>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -83,6 +85,7 @@ void post(const PostOptions& opt, Context& ctx) {
     };
     point(opt.crack_origin, "--crack-origin", crack_opt.origin);
     point(opt.crack_direction, "--crack-direction", crack_opt.direction);
+    point(opt.crack_axis, "--crack-axis", crack_opt.axis);
 
     namespace fs = std::filesystem;
     const fs::path file(opt.file);
@@ -181,6 +184,17 @@ void post(const PostOptions& opt, Context& ctx) {
             const auto csv = out_dir / "crack.csv";
             const auto n = post::write_crack_csv(f, crack_opt, csv.string(), progress);
             made.push_back(fmt::format("{} crack row(s) -> {}", n, csv.string()));
+            const auto fit = post::write_crack_arrivals(
+                f, model, crack_opt, (out_dir / "crack_nodes.csv").string(),
+                (out_dir / "crack_summary.csv").string(), progress);
+            const std::string to_axis =
+                std::isnan(fit.angle_to_axis_deg)
+                    ? std::string()
+                    : fmt::format(" ({:.2f} deg to the axis)", fit.angle_to_axis_deg);
+            made.push_back(fmt::format("crack path: {} nodes, angle {:.2f} deg{}, mean speed "
+                                       "{:.4g} m/s -> {}",
+                                       fit.nodes, fit.angle_deg, to_axis, fit.mean_speed,
+                                       (out_dir / "crack_summary.csv").string()));
         }
     }
     std::string summary = fmt::format("pd-post: {}:", opt.file);
@@ -189,8 +203,11 @@ void post(const PostOptions& opt, Context& ctx) {
     if (opt.csv)
         summary += fmt::format("{} {} observable row(s) -> {}", opt.vtu ? ";" : "", rows,
                                rows ? (out_dir / "observables.csv").string() : "(none)");
-    for (const auto& m : made)
-        summary += "; " + m;
+    bool first = !opt.vtu && !opt.csv;
+    for (const auto& m : made) {
+        summary += (first ? " " : "; ") + m;
+        first = false;
+    }
     ctx.log.info("{}", summary);
 }
 

@@ -25,6 +25,8 @@ struct PostOptions {
     /// crack.csv is written when either is given: a point of the crack path and the direction
     /// of growth, 2 (z = 0) or 3 values each (default origin 0, direction +x).
     std::vector<double> crack_origin, crack_direction;
+    /// Reference axis of the crack angle in crack_summary.csv (e.g. the notch axis); optional.
+    std::vector<double> crack_axis;
     post::CrackOptions crack_opt; ///< threshold, band, window (origin/direction set from above)
     double progress_seconds = 10; ///< wall-clock seconds between progress lines
     pd::CommonOptions common;

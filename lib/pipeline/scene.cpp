@@ -8,6 +8,7 @@
 #include "mesh/gmsh_mesher.hpp"
 #include "mesh/shape_mesher.hpp"
 #include "model/pmb.hpp"
+#include "model/slots.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -453,7 +454,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     }
     check_keys(root, "",
                {"title", "dimension", "planar", "materials", "discretization", "shapes",
-                "particles", "walls", "cracks", "contact", "loading", "solver"});
+                "particles", "walls", "cracks", "slots", "contact", "loading", "solver"});
     model::Model m;
     m.scene_json = root.dump(2);
     m.title = text(root, "", "title", source);
@@ -1175,6 +1176,38 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                     bd[k] * B.scale[b] <= rc_max + 0.5 * h + std::min(rc_max, h) ? 1 : 0;
             }
         }
+    }
+
+    // Notch slots: nodes inside are removed and bonds through them never exist (before the
+    // loading, whose regions select nodes by index).
+    if (root.contains("slots")) {
+        if (!root["slots"].is_array())
+            throw ConfigError("slots",
+                              "expected a list of {\"from\": [..], \"to\": [..], \"width\": w}");
+        std::vector<model::Slot> slots;
+        for (std::size_t k = 0; k < root["slots"].size(); ++k) {
+            const json& sj = root["slots"][k];
+            const std::string w = fmt::format("slots[{}]", k);
+            check_keys(sj, w, {"from", "to", "width"});
+            slots.push_back({vec(sj, w, "from", m.dimension, {0, 0, 0}, true),
+                             vec(sj, w, "to", m.dimension, {0, 0, 0}, true),
+                             number(sj, w, "width", 0, true)});
+        }
+        const auto cut = model::apply_slots(m, slots);
+        // The notch faces are boundary: nodes near a slot join the surface layer (as above).
+        double rc_max = 0;
+        for (const auto& p : m.contact)
+            rc_max = std::max(rc_max, p.radius);
+        for (std::size_t i = 0; i < m.nodes.num(); ++i) {
+            const double layer =
+                2 * rc_max + 0.5 * B.mesh_size[static_cast<std::size_t>(m.nodes.body[i])];
+            for (const auto& sl : slots)
+                if (model::slot_distance(sl, &m.nodes.x0[3 * i]) <= layer)
+                    m.nodes.surface[i] = 1;
+        }
+        for (std::size_t k = 0; k < slots.size(); ++k)
+            log.info("slots[{}]: {} nodes inside removed, {} bonds through it never exist", k,
+                     cut.nodes_per_slot[k], cut.bonds_per_slot[k]);
     }
 
     // Loading.

@@ -28,6 +28,15 @@ struct CrackOptions {
     double threshold = 0.3;                   ///< phi above which a node counts as cracked
     double band = std::numeric_limits<double>::infinity(); ///< m, max distance from the path
     int half_window = 2; ///< w: frames each side for the speed fit
+    /// Reference axis of crack_summary.csv's angle_to_axis_deg (e.g. the notch axis); 0 = none.
+    std::array<double, 3> axis{0, 0, 0};
+    /// m: crack_summary.csv keeps the cracked nodes linked to the origin through cracked nodes
+    /// at most this far apart (isolated damage, e.g. at a corner, is left out); 0 = pd-post
+    /// uses the largest horizon of the model; infinity = no link test.
+    double link = 0;
+    /// m: crack_summary.csv's angle_deg uses the path nodes within this distance of the origin
+    /// (the initiation direction); path_angle_deg uses them all.
+    double fit_radius = std::numeric_limits<double>::infinity();
 };
 
 /// Writes `csv_path` from the damage frames of `f`; returns the number of data rows (= frames).

@@ -29,6 +29,11 @@ int main(int argc, char** argv) {
     app.add_option("--crack-direction", opt.crack_direction, "crack growth direction dx,dy[,dz]")
         ->delimiter(',')
         ->expected(2, 3);
+    app.add_option("--crack-axis", opt.crack_axis, "reference axis of the crack angle dx,dy")
+        ->delimiter(',')
+        ->expected(2, 3);
+    app.add_option("--crack-fit-radius", opt.crack_opt.fit_radius, "crack angle: nodes within (m)");
+    app.add_option("--crack-link", opt.crack_opt.link, "crack path link distance (m; 0 = horizon)");
     app.add_option("--crack-threshold", opt.crack_opt.threshold, "phi of a cracked node (0.3)");
     app.add_option("--crack-band", opt.crack_opt.band, "max distance from the path (m)");
     app.add_option("--crack-window", opt.crack_opt.half_window, "speed fit half-width (frames)");
