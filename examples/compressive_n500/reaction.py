@@ -16,7 +16,9 @@ centred moving average over --window seconds (PeriDEM's figure: 75, 300, 900 us)
   at_mm {"p": [lo_kPa, hi_kPa]}: stress at these penetrations;
   plateau_mm [a, b] with plateau_kPa [lo, hi]: mean stress over [a, b] mm, and
   plateau_spread: (max - min) / mean over that range at most this;
-  rise_monotone_to_mm: the smoothed stress grows (within 10 % of its peak) from onset to there."""
+  rise_monotone_to_mm: the smoothed stress grows from onset to there (no drop below its running
+  maximum by more than rise_max_drop, default 0.1, of the peak);
+  broken_bonds_min: bonds broken by the end of the run at least this many."""
 
 import argparse
 import json
@@ -52,12 +54,14 @@ def read(path, length):
         n = f["walls/normal"][k]
         v = f["walls/velocity"][k]
         t1 = float(f["walls/start_time"][k]) if "walls/start_time" in f else 0.0
+        bb = "observables/broken_bonds/value"
+        broken = int(f[bb][-1]) if bb in f else 0
     speed = float(v @ n)  # travel along its normal (into the grains), m/s
     keep = t >= t1
     t, force = t[keep], force[keep]
     pen = speed * (t - t1)
     stress = -(force @ n) / length  # Pa: the grains push the plate along -n
-    return t, pen, stress, t1, speed
+    return t, pen, stress, t1, speed, broken
 
 
 def smooth(t, y, window):
@@ -76,7 +80,7 @@ def smooth(t, y, window):
     return c
 
 
-def check(pen_mm, s_kpa, bounds):
+def check(pen_mm, s_kpa, bounds, broken):
     ok = True
 
     def report(name, value, lo, hi):
@@ -114,7 +118,9 @@ def check(pen_mm, s_kpa, bounds):
         sel = (pen_mm >= onset) & (pen_mm <= end)
         seg = s_kpa[sel]
         drop = float(np.max(np.maximum.accumulate(seg) - seg) / max(seg.max(), 1e-30))
-        report("rise: largest drop / peak", drop, 0.0, 0.10)
+        report("rise: largest drop / peak", drop, 0.0, bounds.get("rise_max_drop", 0.10))
+    if "broken_bonds_min" in bounds:
+        report("broken bonds at the end", float(broken), bounds["broken_bonds_min"], np.inf)
     return ok
 
 
@@ -128,7 +134,7 @@ def main():
     ap.add_argument("--check", default=None, help="bounds JSON (see the docstring)")
     ap.add_argument("--title", default="")
     a = ap.parse_args()
-    t, pen, stress, t1, speed = read(a.file, a.length)
+    t, pen, stress, t1, speed, broken = read(a.file, a.length)
     if len(t) < 2:
         fail("%s: no observations after the plate entered at t = %g s" % (a.file, t1))
     sm = smooth(t, stress, a.window)
@@ -165,7 +171,7 @@ def main():
         except (OSError, ValueError) as e:
             fail("%s: %s" % (a.check, e))
         print("checking the smoothed curve against %s:" % a.check)
-        if not check(pen_mm, s_kpa, bounds):
+        if not check(pen_mm, s_kpa, bounds, broken):
             fail("the reaction curve is outside the bounds of %s" % a.check, 1)
         print("reaction curve within bounds")
 

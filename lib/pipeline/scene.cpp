@@ -1134,6 +1134,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     // Grains that start within the contact radius of a wall are pushed off at t = 0.
     for (std::size_t k = 0; k < m.walls.size(); ++k) {
         const auto& wall = m.walls[k];
+        if (wall.start_time > 0)
+            continue; // enters later
         std::size_t close = 0;
         double rc = 0;
         for (const auto& p : m.contact)
