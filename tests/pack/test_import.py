@@ -194,3 +194,37 @@ def test_parity_single_particle_circle_against_peridem(pd_pack, shared_dir, tmp_
     assert c[1] == pytest.approx(2.545276e-5, rel=2e-4)
     # the mapping matters: without it the grain is softer and moves 0.5 % less
     assert got["default"][0] == pytest.approx(5.682177e-5 * (1 - 4.8e-3), rel=5e-4)
+
+
+def test_parity_undamped_twop_circ_against_peridem(pd_pack, shared_dir, tmp_path):
+    """PeriDEM 0.2.1's run of twop_circ with Damping_On: false (shared README): node contact from
+    step 14058 to 14213, impact speed of the upper disc 0.1316167 m/s, rebound 0.1309946 m/s.
+    --parity peridem (its material, symplectic Euler, its Kn and dt with --force-dt) gives the
+    same steps and 0.1316137 / 0.1309946 m/s (the speeds one step before and after contact)."""
+    solve = pd_pack.parent / "pd-solve"
+    src = shared_dir / "data" / "peridem" / "twop_circ"
+    for p in src.iterdir():
+        (tmp_path / p.name).write_bytes(p.read_bytes())
+    deck = tmp_path / "input_0.yaml"
+    text = deck.read_text()
+    deck.write_text(text.replace("Epsilon: 9.000000e-01",
+                                 "Epsilon: 9.000000e-01\n    Damping_On: false"))
+    h5 = tmp_path / "t.h5"
+    r = run(pd_pack, "--from-peridem", deck, "--parity", "peridem", "-o", h5, "-q",
+            "--set", "solver.observe_every=1")
+    assert r.returncode == 0, r.stderr
+    r = run(solve, h5, "-q", "--force-dt")
+    assert r.returncode == 0, r.stderr
+    with h5py.File(h5, "r") as f:
+        p = f["observables/momentum/value"][()]
+        step = f["observables/momentum/step"][()]
+        touching = f["observables/contact_count/value"][()] > 0
+        off = f["bodies/node_offsets"][()]
+        assert list(f["bodies/fixed"][()]) == [1, 0]
+        mass = f["materials"][next(iter(f["materials"]))]["density"][()] * \
+            f["nodes/volume"][off[1]:off[2]].sum()
+    vy = p[:, 1] / mass  # the lower disc is fixed: the momentum is the upper disc's
+    on = np.nonzero(touching)[0]
+    assert (step[on[0]], step[on[-1]]) == (14058, 14213)
+    assert -vy[on[0] - 1] == pytest.approx(0.1316167, rel=5e-5)
+    assert vy[on[-1] + 1] == pytest.approx(0.1309946, rel=2e-6)
