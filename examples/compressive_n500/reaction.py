@@ -16,8 +16,9 @@ centred moving average over --window seconds (PeriDEM's figure: 75, 300, 900 us)
   at_mm {"p": [lo_kPa, hi_kPa]}: stress at these penetrations;
   plateau_mm [a, b] with plateau_kPa [lo, hi]: mean stress over [a, b] mm, and
   plateau_spread: (max - min) / mean over that range at most this;
-  rise_monotone_to_mm: the smoothed stress grows from onset to there (no drop below its running
-  maximum by more than rise_max_drop, default 0.1, of the peak);
+  rise_to_mm: the smoothed stress grows from onset to there: its mean over the last quarter of
+  that range is at least rise_min_ratio (default 2) x its mean over the first quarter, and its
+  least-squares slope at least rise_min_slope kPa/mm (default 0);
   broken_bonds_min: bonds broken by the end of the run at least this many."""
 
 import argparse
@@ -113,12 +114,17 @@ def check(pen_mm, s_kpa, bounds, broken):
             if "plateau_spread" in bounds:
                 spread = float((s_kpa[sel].max() - s_kpa[sel].min()) / mean)
                 report("plateau (max-min)/mean", spread, 0.0, bounds["plateau_spread"])
-    if "rise_monotone_to_mm" in bounds and np.isfinite(onset):
-        end = bounds["rise_monotone_to_mm"]
+    if "rise_to_mm" in bounds and np.isfinite(onset):
+        # the rise as a trend, robust to the force-chain noise: the mean stress over the last
+        # quarter of [onset, end] over that of its first quarter, and the least-squares slope
+        end = bounds["rise_to_mm"]
         sel = (pen_mm >= onset) & (pen_mm <= end)
-        seg = s_kpa[sel]
-        drop = float(np.max(np.maximum.accumulate(seg) - seg) / max(seg.max(), 1e-30))
-        report("rise: largest drop / peak", drop, 0.0, bounds.get("rise_max_drop", 0.10))
+        p, y = pen_mm[sel], s_kpa[sel]
+        q = (p[-1] - p[0]) / 4
+        ratio = float(y[p >= p[-1] - q].mean() / max(y[p <= p[0] + q].mean(), 1e-30))
+        report("rise: last / first quarter", ratio, bounds.get("rise_min_ratio", 2.0), np.inf)
+        slope = float(np.polyfit(p, y, 1)[0])
+        report("rise: slope (kPa/mm)", slope, bounds.get("rise_min_slope", 0.0), np.inf)
     if "broken_bonds_min" in bounds:
         report("broken bonds at the end", float(broken), bounds["broken_bonds_min"], np.inf)
     return ok
