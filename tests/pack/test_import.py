@@ -228,3 +228,25 @@ def test_parity_undamped_twop_circ_against_peridem(pd_pack, shared_dir, tmp_path
     assert (step[on[0]], step[on[-1]]) == (14058, 14213)
     assert -vy[on[0] - 1] == pytest.approx(0.1316167, rel=5e-5)
     assert vy[on[-1] + 1] == pytest.approx(0.1309946, rel=2e-6)
+
+
+def test_peridem_03_json_deck(pd_pack, shared_dir, tmp_path):
+    """PeriDEM 0.3 reads JSON decks with the 0.2 blocks plus Model.MPI_Strategy and
+    Output.PVD_Collection: twop_circ written as such a JSON deck imports to the same model."""
+    yaml = pytest.importorskip("yaml")
+    src = shared_dir / "data" / "peridem" / "twop_circ"
+    for p in src.iterdir():
+        (tmp_path / p.name).write_bytes(p.read_bytes())
+    deck = yaml.safe_load((tmp_path / "input_0.yaml").read_text())
+    deck["Model"]["MPI_Strategy"] = "particle"
+    deck["Output"]["PVD_Collection"] = True
+    (tmp_path / "input.json").write_text(json.dumps(deck, indent=1))
+    for name in ("input_0.yaml", "input.json"):
+        r = run(pd_pack, "--from-peridem", tmp_path / name, "-o", tmp_path / (name + ".h5"), "-q")
+        assert r.returncode == 0, r.stderr
+    with h5py.File(tmp_path / "input_0.yaml.h5", "r") as a, \
+            h5py.File(tmp_path / "input.json.h5", "r") as b:
+        for path in ("nodes/reference_position", "nodes/volume", "bonds/neighbor",
+                     "contact/stiffness", "bodies/fixed"):
+            assert np.array_equal(a[path][()], b[path][()]), path
+        assert len(a["nodes/volume"]) == 246
