@@ -940,14 +940,27 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log, bool 
             } else if (tt == "sin") {
                 c["time_function"] = "sine";
                 c["time_parameter"] = tp.size() > 1 ? tp[1] : 0.0;
+            } else if (tt == "rotation" && !force) {
+                // Attrition drums (spec 5.6, 5.9): [omega, x0, y0, z0], a rigid-body rotation of
+                // the reference positions about (x0, y0), counter-clockwise for omega > 0.
+                if (tp.size() < 3)
+                    throw ConfigError(w + ".Time_Function.Parameters",
+                                      "rotation needs [omega, x0, y0(, z0)]");
+                if (dim != 2)
+                    throw ConfigError(w + ".Time_Function.Type",
+                                      "rotation is an in-plane (2D) motion in PeriDEM 0.2");
+                c["time_function"] = "rotation";
+                c["rotation_center"] = json{tp[1], tp[2]};
+                log.info("{}: rotation at {:.4g} rad/s about ({:.4g}, {:.4g}) m, prescribed on "
+                         "every node of the selection (a rigid-body displacement)",
+                         w, tp[0], tp[1], tp[2]);
             } else
                 throw ConfigError(w + ".Time_Function.Type",
                                   fmt::format("'{}' cannot be expressed in a pdgrain scene ({})",
                                               tt,
                                               force ? "constant, linear, sin"
-                                                    : "constant, linear, quadratic, sin; a "
-                                                      "rotating wall is a rigid wall with "
-                                                      "angular_velocity"));
+                                                    : "constant, linear, quadratic, sin, "
+                                                      "rotation"));
             const YAML::Node sf = child(s, "Spatial_Function");
             const auto st = str_or(sf, w + ".Spatial_Function", "Type", "constant");
             const auto sp = nums(sf, w + ".Spatial_Function", "Parameters");
@@ -1012,8 +1025,10 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log, bool 
         }
     }
     if (auto ct = child(R["Particle"], "Compressive_Test"))
-        log.warn("Particle.Compressive_Test: not imported (pdgrain records no reaction for a "
-                 "meshed wall; compute it from the particle side, spec 10)");
+        log.info("Particle.Compressive_Test: pdgrain records the contact force every fixed or "
+                 "driven body receives (/observables/body_force; pd-post walls.csv, "
+                 "plot_wall_reaction.py --body B); examples/compressive_n500 is this test with "
+                 "a rigid plate that enters the settled pack (walls[].start_time)");
     if (auto oc = child(R["Output"], "Output_Criteria"))
         log.warn("Output.Output_Criteria ({}): not imported (pdgrain stops only on blow-up or "
                  "NaN)",

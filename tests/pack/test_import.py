@@ -250,3 +250,41 @@ def test_peridem_03_json_deck(pd_pack, shared_dir, tmp_path):
                      "contact/stiffness", "bodies/fixed"):
             assert np.array_equal(a[path][()], b[path][()]), path
         assert len(a["nodes/volume"]) == 246
+
+
+def test_rotating_meshed_wall_imports_as_rotation(pd_pack, shared_dir, tmp_path):
+    """A PeriDEM rotation BC (attrition drums, spec 5.6/5.9: [omega, x0, y0, z0]) on a meshed
+    wall becomes a rigid-body rotation condition of its nodes (compression_small_set with its
+    container rotating at -40 pi rad/s about (1, 2) mm); after pd-solve the container's nodes
+    sit at R(omega t)(X - c) + c to round-off."""
+    src = shared_dir / "data" / "peridem" / "compression_small_set"
+    for p in src.iterdir():
+        (tmp_path / p.name).write_bytes(p.read_bytes())
+    deck = tmp_path / "input_0.yaml"
+    omega, cx, cy = -40 * math.pi, 1e-3, 2e-3
+    text = deck.read_text().replace(
+        "    Particle_List: [15]\n    Direction: [1,2]\n    Zero_Displacement: true\n",
+        "    Particle_List: [15]\n    Direction: [1,2]\n    Time_Function:\n      Type: rotation\n"
+        f"      Parameters: [{omega!r}, {cx}, {cy}, 0.0]\n")
+    assert "Type: rotation" in text
+    deck.write_text(text)
+    h5, scene = tmp_path / "rot.h5", tmp_path / "rot.json"
+    r = run(pd_pack, "--from-peridem", deck, "-o", h5, "--write-scene", scene,
+            "--set", "solver.final_time=2e-4", "--set", "solver.output_interval=1e-4")
+    assert r.returncode == 0, r.stderr
+    c = [c for c in json.loads(scene.read_text())["loading"]["conditions"]
+         if c.get("time_function") == "rotation"]
+    assert len(c) == 1 and c[0]["particles"] == [15]
+    assert c[0]["value"] == pytest.approx(omega) and c[0]["rotation_center"] == [cx, cy]
+    r = run(pd_pack.parent / "pd-solve", h5, "-q", "--force-dt")
+    assert r.returncode == 0, r.stderr
+    with h5py.File(h5, "r") as f:
+        off = f["bodies/node_offsets"][()]
+        X = f["nodes/reference_position"][off[15]:off[16]]
+        t = f["particles/nodes/position/time"][-1]
+        x = f["particles/nodes/position/value"][-1, off[15]:off[16]]
+    th = omega * t
+    rx, ry = X[:, 0] - cx, X[:, 1] - cy
+    np.testing.assert_allclose(x[:, 0], cx + np.cos(th) * rx - np.sin(th) * ry, atol=1e-15)
+    np.testing.assert_allclose(x[:, 1], cy + np.sin(th) * rx + np.cos(th) * ry, atol=1e-15)
+    assert abs(th) > 0.02  # it did turn
