@@ -49,6 +49,21 @@ inline double time_function(TimeFn f, const std::array<double, 4>& p, double t, 
     return 0;
 }
 
+/// T of a wall's motion at time t: 0 (at rest at its t = 0 pose) before its start_time, then
+/// its time function of t - start_time.
+inline double wall_time(const Wall& w, double t, double* rate) {
+    if (t < w.start_time) {
+        *rate = 0;
+        return 0;
+    }
+    return time_function(w.motion, w.motion_params, t - w.start_time, rate);
+}
+
+/// Whether a wall takes part in contact at time t.
+inline bool wall_present(const Wall& w, double t) {
+    return t >= w.start_time;
+}
+
 /// S(X) of a condition's space function at reference position X; `box` = x and y range of the
 /// condition's nodes (the hat functions).
 inline double space_value(SpaceFn f, double p0, const double* X, const std::array<double, 4>& box) {

@@ -133,6 +133,10 @@ struct Wall {
     /// (linear: constant velocities; also quadratic, sine, linear_step, linear_slow_fast).
     TimeFn motion = TimeFn::linear;
     std::array<double, 4> motion_params{0, 0, 0, 0};
+    /// s: the wall takes part from this time on (two-stage runs: a plate that enters a settled
+    /// pack). Before it the wall touches nothing and stays at its t = 0 pose; from it on it moves
+    /// by velocity T(t - start_time).
+    double start_time = 0;
 };
 
 /// Space function S(X) of a boundary condition, of the reference position.

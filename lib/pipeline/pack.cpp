@@ -105,7 +105,7 @@ void pack(const PackOptions& opt, Context& ctx) {
         throw InputError(fmt::format("--max-nodes {}: must be at least 1", opt.max_nodes));
     std::string text, source;
     if (!opt.from_peridem.empty()) {
-        text = peridem_to_scene(opt.from_peridem, ctx.log);
+        text = peridem_to_scene(opt.from_peridem, ctx.log, opt.parity == "peridem");
         source = opt.from_peridem;
     } else {
         std::ifstream in(opt.scene);

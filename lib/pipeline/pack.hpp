@@ -14,6 +14,7 @@ namespace pd::pipeline {
 struct PackOptions {
     std::string scene;             ///< JSON scene path (or empty with from_peridem)
     std::string from_peridem;      ///< PeriDEM 0.2.x YAML deck to import instead of a scene
+    std::string parity;            ///< "peridem": import the deck to match PeriDEM 0.2.1's numbers
     std::string write_scene;       ///< if set, the scene JSON actually built is written here
     std::string output;            ///< pd-file to write
     std::string preview;           ///< if set, a PNG of the scene (workflows/preview/preview.py)

@@ -365,7 +365,7 @@ struct Particle {
 
 } // namespace
 
-std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
+std::string peridem_to_scene(const std::string& yaml_path, const Log& log, bool parity) {
     Deck d;
     d.path = yaml_path;
     d.dir = fs::absolute(fs::path(yaml_path)).parent_path();
@@ -485,6 +485,14 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
     json materials = json::object();
     std::vector<double> horizon(zones.size(), 0), ratio(zones.size(), 0);
     bool plane_strain = false;
+    bool lps_parity = false, lps_noted = false;
+    // Is_Plane_Strain of any material (read ahead: the 2D bulk modulus of the note depends on it)
+    bool plane_strain_deck = false;
+    if (const YAML::Node mats = R["Material"]; mats && mats.IsMap())
+        for (auto it = mats.begin(); it != mats.end(); ++it)
+            if (it->second.IsMap() && it->second["Is_Plane_Strain"] &&
+                it->second["Is_Plane_Strain"].as<std::string>() == "true")
+                plane_strain_deck = true;
     std::vector<YAML::Node> mat_nodes(zones.size());
     for (int k = 1; k <= nz; ++k) {
         const std::string w = fmt::format("Material.Zone_{}", k);
@@ -554,7 +562,53 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             Gc = kic * kic / E; // spec 1.2: plane-stress form, no nu
         }
         json m{{"law", law}, {"density", rho}, {"youngs_modulus", E}};
-        if (law == "lps")
+        if (law == "lps" && dim == 2) {
+            // PeriDEM 0.2's 2D PDState uses the 3D LPS formulas (theta = 3/m sum, 3K/m, 15G/m,
+            // the 3D critical stretch); pdgrain's 2D LPS is the consistent one (theta = 2/m
+            // sum, 2 kappa/m, 8 mu/m, the 2D s0). The two agree for mu' = 15 G / 8 and
+            // kappa' = 9 K / 4 (the 2D bulk modulus; plane strain: K3' = kappa' - mu' / 3) and
+            // a Gc' that keeps PeriDEM's s0.
+            const double G3 = E / (2 * (1 + nu)), K3 = E / (3 * (1 - 2 * nu));
+            const double mu_p = 15 * G3 / 8, kappa_p = 9 * K3 / 4, K3_p = kappa_p - mu_p / 3;
+            if (parity) {
+                if (!(K3_p > 0) || !(3 * K3_p - 2 * mu_p < 2 * (3 * K3_p + mu_p)) ||
+                    !(3 * K3_p - 2 * mu_p > -2 * (3 * K3_p + mu_p)))
+                    throw ConfigError(w, fmt::format("--parity peridem: the equivalent 2D "
+                                                     "material (mu' = {:.4g}, kappa' = {:.4g} Pa)"
+                                                     " is not a stable isotropic solid",
+                                                     mu_p, kappa_p));
+                m.erase("youngs_modulus");
+                m["bulk_modulus"] = K3_p;
+                m["shear_modulus"] = mu_p;
+                lps_parity = true;
+                if (Gc > 0) {
+                    const double d_peridem = 3 * G3 + std::pow(0.75, 4) * (K3 - 5 * G3 / 3);
+                    const double d_pdgrain =
+                        6 * mu_p / M_PI + 16 / (9 * M_PI * M_PI) * (kappa_p - 2 * mu_p);
+                    const double Gc_p = Gc * d_pdgrain / d_peridem;
+                    log.info("{}: --parity peridem: PDState in 2D as PeriDEM 0.2 computes it: "
+                             "shear modulus {:.4g} -> {:.4g} Pa (15 G / 8), 2D bulk modulus "
+                             "{:.4g} Pa (9 K / 4; plane strain K = {:.4g} Pa), Gc {:.4g} -> "
+                             "{:.4g} J/m2 (same critical stretch)",
+                             w, G3, mu_p, kappa_p, K3_p, Gc, Gc_p);
+                    Gc = Gc_p;
+                }
+            } else {
+                m["poisson_ratio"] = nu;
+                if (!lps_noted) {
+                    const double kappa_2d =
+                        plane_strain_deck ? K3 + G3 / 3 : 9 * K3 * G3 / (3 * K3 + 4 * G3);
+                    log.info("{}: PDState is imported as pdgrain's consistent 2D LPS with the "
+                             "deck's K and G. PeriDEM 0.2 uses the 3D LPS formulas in 2D, so its "
+                             "grains are {:.2f}x as stiff in shear and {:.2f}x in bulk as these "
+                             "(contacts and wave speeds differ); --parity peridem maps the "
+                             "material to PeriDEM's (mu' = 15 G/8, kappa' = 9 K/4, Gc' keeping "
+                             "s0)",
+                             w, 15.0 / 8.0, 9 * K3 / 4 / kappa_2d);
+                    lps_noted = true;
+                }
+            }
+        } else if (law == "lps")
             m["poisson_ratio"] = nu;
         else if (has_nu || (K > 0 && G > 0))
             log.info("{}: law {} fixes its Poisson ratio; the deck's nu = {:.4g} is not used", w,
@@ -606,6 +660,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
         else
             discretization["horizon"] = horizon[0];
         discretization["bond_cutoff"] = "strict";
+        // PeriDEM runs horizons below 2 h (compression_small_set: 0.4 mm at h = 0.215 mm): warn.
+        discretization["small_horizon"] = "warn";
     }
 
     // ---- Meshes and reference shapes
@@ -884,14 +940,27 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
             } else if (tt == "sin") {
                 c["time_function"] = "sine";
                 c["time_parameter"] = tp.size() > 1 ? tp[1] : 0.0;
+            } else if (tt == "rotation" && !force) {
+                // Attrition drums (spec 5.6, 5.9): [omega, x0, y0, z0], a rigid-body rotation of
+                // the reference positions about (x0, y0), counter-clockwise for omega > 0.
+                if (tp.size() < 3)
+                    throw ConfigError(w + ".Time_Function.Parameters",
+                                      "rotation needs [omega, x0, y0(, z0)]");
+                if (dim != 2)
+                    throw ConfigError(w + ".Time_Function.Type",
+                                      "rotation is an in-plane (2D) motion in PeriDEM 0.2");
+                c["time_function"] = "rotation";
+                c["rotation_center"] = json{tp[1], tp[2]};
+                log.info("{}: rotation at {:.4g} rad/s about ({:.4g}, {:.4g}) m, prescribed on "
+                         "every node of the selection (a rigid-body displacement)",
+                         w, tp[0], tp[1], tp[2]);
             } else
                 throw ConfigError(w + ".Time_Function.Type",
                                   fmt::format("'{}' cannot be expressed in a pdgrain scene ({})",
                                               tt,
                                               force ? "constant, linear, sin"
-                                                    : "constant, linear, quadratic, sin; a "
-                                                      "rotating wall is a rigid wall with "
-                                                      "angular_velocity"));
+                                                    : "constant, linear, quadratic, sin, "
+                                                      "rotation"));
             const YAML::Node sf = child(s, "Spatial_Function");
             const auto st = str_or(sf, w + ".Spatial_Function", "Type", "constant");
             const auto sp = nums(sf, w + ".Spatial_Function", "Parameters");
@@ -956,8 +1025,10 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
         }
     }
     if (auto ct = child(R["Particle"], "Compressive_Test"))
-        log.warn("Particle.Compressive_Test: not imported (pdgrain records no reaction for a "
-                 "meshed wall; compute it from the particle side, spec 10)");
+        log.info("Particle.Compressive_Test: pdgrain records the contact force every fixed or "
+                 "driven body receives (/observables/body_force; pd-post walls.csv, "
+                 "plot_wall_reaction.py --body B); examples/compressive_n500 is this test with "
+                 "a rigid plate that enters the settled pack (walls[].start_time)");
     if (auto oc = child(R["Output"], "Output_Criteria"))
         log.warn("Output.Output_Criteria ({}): not imported (pdgrain stops only on blow-up or "
                  "NaN)",
@@ -1086,8 +1157,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log) {
     json scene;
     scene["title"] = fmt::format("imported from PeriDEM deck {}", fs::path(yaml_path).string());
     scene["dimension"] = dim;
-    if (plane_strain)
-        scene["planar"] = "plane_strain";
+    if (plane_strain || lps_parity)
+        scene["planar"] = "plane_strain"; // parity: the equivalent material is given as K3', mu'
     scene["materials"] = materials;
     scene["discretization"] = discretization;
     scene["shapes"] = shapes;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -569,7 +570,14 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
         throw ConfigError("discretization", "missing: give mesh_size and horizon");
     const json& dz = root["discretization"];
     check_keys(dz, "discretization",
-               {"mesh_size", "horizon", "horizon_factor", "horizon_mesh_ratio", "bond_cutoff"});
+               {"mesh_size", "horizon", "horizon_factor", "horizon_mesh_ratio", "bond_cutoff",
+                "small_horizon"});
+    // A horizon below 2 h (a family of one ring of neighbours) is refused by default; PeriDEM
+    // runs such decks, so --from-peridem writes "warn".
+    const bool small_horizon_warns =
+        text(dz, "discretization", "small_horizon", "refuse", {"refuse", "warn"}) == "warn";
+    std::size_t small_horizons = 0;
+    double small_ratio = std::numeric_limits<double>::infinity();
     const bool partial_cutoff =
         text(dz, "discretization", "bond_cutoff", "partial", {"partial", "strict"}) == "partial";
     const double h_ref = positive(dz, "discretization", "mesh_size", 0, true);
@@ -912,7 +920,10 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
         const double delta = has_h   ? horizon_abs
                              : has_m ? horizon_factor * h_nominal
                                      : horizon_factor * h;
-        if (delta < 2.0 * h)
+        if (delta < 2.0 * h && small_horizon_warns) {
+            ++small_horizons;
+            small_ratio = std::min(small_ratio, delta / h);
+        } else if (delta < 2.0 * h)
             throw ConfigError(horizon_key,
                               fmt::format("{}: horizon {:.4g} m is less than 2 x its mesh "
                                           "spacing h = {:.4g} m (too coarse: refine mesh_size "
@@ -922,6 +933,11 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
         B.horizon.push_back(delta);
         h_nominal_of.push_back(h_nominal);
     }
+    if (small_horizons > 0)
+        log.warn("{}: {} grain(s) have a horizon below 2 x their smallest node spacing (down to "
+                 "{:.3g} h): few bonds per node, a stiffer and more mesh-dependent response "
+                 "(discretization.small_horizon = \"warn\")",
+                 horizon_key, small_horizons, small_ratio);
     check_overlaps(m, inst, shapes);
     {
         double vol = 0, exact = 0;
@@ -947,7 +963,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             check_keys(wj, w,
                        {"name", "type", "point", "normal", "center", "radius", "velocity",
                         "angular_velocity", "rotation_center", "group", "time_function",
-                        "time_parameters"});
+                        "time_parameters", "start_time"});
             model::Wall wall;
             wall.name = text(wj, w, "name", fmt::format("wall_{}", k));
             const auto type =
@@ -991,6 +1007,10 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                 for (std::size_t q = 0; q < tp.size(); ++q)
                     wall.motion_params[q + 1] = tp[q].get<double>();
             }
+            // Two-stage runs: the wall enters at start_time (absent before), then moves.
+            wall.start_time = number(wj, w, "start_time", 0.0);
+            if (!(wall.start_time >= 0) || !std::isfinite(wall.start_time))
+                throw ConfigError(w + ".start_time", "must be a finite time >= 0 (s)");
             wall.group = static_cast<std::int32_t>(number(wj, w, "group", -1));
             m.walls.push_back(wall);
         }
@@ -998,9 +1018,12 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
         for (auto& wall : m.walls)
             if (wall.group < 0)
                 wall.group = max_group + 1;
-        // Every node must start on the free side of every wall.
+        // Every node must start on the free side of every wall present at t = 0 (a wall with a
+        // start_time enters later, where pd-solve's rigid-wall guard checks the grains).
         for (std::size_t k = 0; k < m.walls.size(); ++k) {
             const auto& wall = m.walls[k];
+            if (wall.start_time > 0)
+                continue;
             for (std::size_t i = 0; i < m.nodes.num(); ++i) {
                 const double d = wall_distance(wall, &m.nodes.x0[3 * i]);
                 if (d < 0)
@@ -1142,6 +1165,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     // Grains that start within the contact radius of a wall are pushed off at t = 0.
     for (std::size_t k = 0; k < m.walls.size(); ++k) {
         const auto& wall = m.walls[k];
+        if (wall.start_time > 0)
+            continue; // enters later
         std::size_t close = 0;
         double rc = 0;
         for (const auto& p : m.contact)

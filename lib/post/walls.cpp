@@ -138,8 +138,10 @@ std::size_t write_walls_csv(const h5::File& f, const model::Model& m, const std:
             const auto& w = m.walls[k];
             const double* fk = force->value.data() + r * 3 * nw + 3 * k;
             const double* mk = moment->value.data() + r * 3 * nw + 3 * k;
+            double rate = 0;
+            const double T = model::wall_time(w, t, &rate); // its motion's time function
             for (int d = 0; d < 3; ++d)
-                line += fmt::format(",{:.17g}", w.velocity[d] * t);
+                line += fmt::format(",{:.17g}", w.velocity[d] * T);
             for (int d = 0; d < 3; ++d)
                 line += fmt::format(",{:.17g}", fk[d]);
             for (int d = 0; d < 3; ++d)

@@ -56,7 +56,7 @@ double distance(const model::Wall& w, const WallPose& p, const double* x, double
 WallPose wall_pose(const model::Wall& w, double t) {
     WallPose p;
     double rate = 0;
-    const double T = model::time_function(w.motion, w.motion_params, t, &rate);
+    const double T = model::wall_time(w, t, &rate);
     V3 theta{w.angular_velocity[0] * T, w.angular_velocity[1] * T, w.angular_velocity[2] * T};
     for (int d = 0; d < 3; ++d)
         p.centre[d] = w.centre[d] + w.velocity[d] * T;
@@ -103,8 +103,7 @@ bool WallContact::update(const State& s) {
         for (const auto& w : walls_) {
             double rate = 0;
             const double dT =
-                std::abs(model::time_function(w.motion, w.motion_params, s.time, &rate) -
-                         model::time_function(w.motion, w.motion_params, t_build_, &rate));
+                std::abs(model::wall_time(w, s.time, &rate) - model::wall_time(w, t_build_, &rate));
             const double v =
                 std::sqrt(w.velocity[0] * w.velocity[0] + w.velocity[1] * w.velocity[1] +
                           w.velocity[2] * w.velocity[2]);
@@ -179,8 +178,11 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     if (!active_ || nodes_.empty())
         return;
     std::vector<WallPose> pose;
-    for (const auto& w : walls_)
+    std::vector<std::uint8_t> present;
+    for (const auto& w : walls_) {
         pose.push_back(wall_pose(w, s.time));
+        present.push_back(model::wall_present(w, s.time) ? 1 : 0);
+    }
     const auto nn = static_cast<std::int64_t>(nodes_.size());
     std::vector<double> fm(6 * nw, 0.0); // force then moment, per wall
     double* fmp = fm.data();
@@ -202,6 +204,8 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
             for (auto k = offsets_[static_cast<std::size_t>(a)];
                  k < offsets_[static_cast<std::size_t>(a) + 1]; ++k) {
                 const auto w = static_cast<std::size_t>(wall_of_[static_cast<std::size_t>(k)]);
+                if (!present[w])
+                    continue;
                 const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
                 double n[3];
                 const double d = distance(walls_[w], pose[w], x, n);

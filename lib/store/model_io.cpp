@@ -208,7 +208,7 @@ void write_model(h5::File& f, const model::Model& m) {
         const std::uint64_t nw = m.walls.size();
         std::vector<std::uint8_t> shape;
         std::vector<std::int32_t> group, motion;
-        std::vector<double> point, normal, radius, vel, omega, centre, mparams;
+        std::vector<double> point, normal, radius, vel, omega, centre, mparams, start;
         std::vector<std::string> names;
         for (const auto& x : m.walls) {
             names.push_back(x.name);
@@ -222,6 +222,7 @@ void write_model(h5::File& f, const model::Model& m) {
             centre.insert(centre.end(), x.centre.begin(), x.centre.end());
             motion.push_back(static_cast<std::int32_t>(x.motion));
             mparams.insert(mparams.end(), x.motion_params.begin(), x.motion_params.end());
+            start.push_back(x.start_time);
         }
         f.create_group(w);
         f.set_attr(w, "names", names);
@@ -235,6 +236,9 @@ void write_model(h5::File& f, const model::Model& m) {
         put(f, w + "/centre", centre, {nw, 3}, "m");
         put(f, w + "/motion", motion, {nw}, "1");
         put(f, w + "/motion_parameters", mparams, {nw, 4}, "1");
+        // 1.3.0: written only when a wall enters later (older files stay as they were).
+        if (std::any_of(start.begin(), start.end(), [](double t) { return t != 0; }))
+            put(f, w + "/start_time", start, {nw}, "s");
     }
     // Pre-cracks.
     f.remove(path::cracks);
@@ -486,6 +490,14 @@ model::Model read_model(const h5::File& f, bool neighbors) {
                     throw SchemaError(f.name(), w + "/motion",
                                       fmt::format("{} is not a wall motion (1-3, 5, 6)", mo));
         }
+        std::vector<double> start(nw, 0.0);
+        if (f.exists(w + "/start_time")) {
+            start = get<double>(f, w + "/start_time", {nw});
+            for (std::size_t k = 0; k < nw; ++k)
+                if (!(start[k] >= 0) || !std::isfinite(start[k]))
+                    throw SchemaError(f.name(), w + "/start_time",
+                                      fmt::format("wall {}: {} is not a time >= 0", k, start[k]));
+        }
         for (std::size_t k = 0; k < nw; ++k) {
             model::Wall x;
             x.name = fmt::format("wall_{}", k);
@@ -502,6 +514,7 @@ model::Model read_model(const h5::File& f, bool neighbors) {
             x.motion = static_cast<model::TimeFn>(motion[k]);
             for (std::size_t q = 0; q < 4; ++q)
                 x.motion_params[q] = mparams[4 * k + q];
+            x.start_time = start[k];
             const double nn = std::sqrt(x.normal[0] * x.normal[0] + x.normal[1] * x.normal[1] +
                                         x.normal[2] * x.normal[2]);
             if (x.shape == model::WallShape::plane && std::abs(nn - 1) > 1e-9)

@@ -16,6 +16,11 @@ int main(int argc, char** argv) {
                                 "import a PeriDEM 0.2.x YAML deck (with its .msh and CSV files)")
                      ->check(CLI::ExistingFile);
     scene->excludes(deck);
+    app.add_option("--parity", opt.parity,
+                   "with --from-peridem: 'peridem' maps the deck so that it matches PeriDEM "
+                   "0.2.1's numbers (2D PDState material as its 3D formulas make it)")
+        ->check(CLI::IsMember({"peridem"}))
+        ->needs(deck);
     app.add_option("--write-scene", opt.write_scene, "also write the scene JSON that is built");
     auto* out = app.add_option("-o,--output", opt.output, "pd-file to write (HDF5)");
     app.add_option("--set", opt.sets,

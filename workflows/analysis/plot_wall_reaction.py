@@ -49,7 +49,10 @@ def rigid_wall(f, k):
     vel = f["walls/velocity"][k]
     n = normal / np.linalg.norm(normal) if np.linalg.norm(normal) > 0 else np.array([0, 1, 0])
     reaction = -(force @ n)  # the push of the grains into the wall, > 0 in compression
-    disp = -(vel @ n) * t  # penetration: the wall's travel against its normal
+    # penetration: the wall's travel against its normal (a wall with a start_time, pd-file
+    # 1.3, enters at that time and moves from then on; linear motion assumed)
+    t1 = f["walls/start_time"][k] if "walls/start_time" in f else 0.0
+    disp = -(vel @ n) * np.maximum(t - t1, 0.0)
     return t, reaction, disp, "wall %d (%s)" % (k, names[k]), "against its normal"
 
 

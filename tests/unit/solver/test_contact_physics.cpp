@@ -5,6 +5,7 @@
 // prescribed.
 #include "body_means.hpp"
 #include "core/log.hpp"
+#include "model/functions.hpp"
 #include "pipeline/scene.hpp"
 #include "solver/solver.hpp"
 
@@ -241,6 +242,29 @@ TEST(Walls, MotionFollowsItsTimeFunction) {
         const auto p = solver::wall_pose(m.walls[0], t);
         EXPECT_NEAR(p.point[1], 1e-3 * std::sin(M_PI * 100 * t), 1e-15);
         EXPECT_NEAR(p.velocity[1], 1e-3 * M_PI * 100 * std::cos(M_PI * 100 * t), 1e-12);
+    }
+}
+
+TEST(Walls, StartTimeShiftsTheMotionAndThePresence) {
+    // A plate entering at t1 = 2 ms at y = 5 mm, then moving down at 0.5 m/s: at rest at its
+    // point before t1 (and absent: model::wall_present), then y = 5 mm - 0.5 (t - t1).
+    auto m = pipeline::build_scene(
+        scene(R"({"radius": 1e-3, "center": [0, 3e-3], "material": "m1"})",
+              R"("walls": [{"type": "plane", "point": [0, 5e-3], "normal": [0, -1],
+                             "velocity": [0, -0.5], "start_time": 2e-3}])"),
+        "t", quiet);
+    ASSERT_EQ(m.walls[0].start_time, 2e-3);
+    for (double t : {0.0, 1.999e-3}) {
+        const auto p = solver::wall_pose(m.walls[0], t);
+        EXPECT_EQ(p.point[1], 5e-3);
+        EXPECT_EQ(p.velocity[1], 0.0);
+        EXPECT_FALSE(model::wall_present(m.walls[0], t));
+    }
+    for (double t : {2e-3, 3e-3, 7e-3}) {
+        const auto p = solver::wall_pose(m.walls[0], t);
+        EXPECT_NEAR(p.point[1], 5e-3 - 0.5 * (t - 2e-3), 1e-18);
+        EXPECT_EQ(p.velocity[1], -0.5);
+        EXPECT_TRUE(model::wall_present(m.walls[0], t));
     }
 }
 
