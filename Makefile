@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
-.PHONY: all deps deps-test configure build test demo bench format format-check clean
+.PHONY: all deps deps-test configure build test demo bench accuracy stability format format-check clean
 
 all: build
 
@@ -29,6 +29,17 @@ test: deps-test build
 
 demo: build
 	@bash workflows/demo/run.sh $(BUILD)
+
+# Error against CPU time of the accuracy problems (workflows/accuracy: RESULTS.md, one PNG each;
+# about 20-30 min on 2 cores), then the time-step stability map when its workflow exists.
+accuracy: build
+	@/usr/bin/python3 workflows/accuracy/accuracy.py --build $(BUILD)
+	@$(MAKE) --no-print-directory stability
+
+stability: build
+	@if [ -f workflows/accuracy/stability/run.sh ]; then \
+	  bash workflows/accuracy/stability/run.sh $(BUILD); \
+	else echo "stability: workflows/accuracy/stability/run.sh not present, skipped"; fi
 
 SOURCES = $(shell find lib tools tests workflows -name '*.cpp' -o -name '*.hpp')
 
