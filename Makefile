@@ -33,7 +33,7 @@ demo: build
 # Error against CPU time of the accuracy problems (workflows/accuracy: RESULTS.md, one PNG each;
 # about 20-30 min on 2 cores), then the time-step stability map when its workflow exists.
 accuracy: build
-	@/usr/bin/python3 workflows/accuracy/accuracy.py --build $(BUILD)
+	@bash workflows/accuracy/run.sh $(BUILD) --before workflows/accuracy/before.json
 	@$(MAKE) --no-print-directory stability
 
 stability: build

@@ -63,17 +63,18 @@ class Runner:
 
 # ------------------------------------------------------------------ problems
 
-def plate_scene(h, law, L=8e-3, W=4e-3, sigma=1e5):
+def plate_scene(h, law, L=8e-3, W=4e-3, sigma=1e5, delta=None):
     """2D plate L x W in uniaxial stress: held in x on its left band (and in y on the left band's
     lower half), pulled by a force density on its right band (bands one horizon wide), relaxed by
     critical damping of the fundamental mode for 40 transit times."""
-    d = 3 * h
+    d = delta or 3 * h
     e = 1e-9
+    disc = {"mesh_size": h, "horizon": delta} if delta else {"mesh_size": h, "horizon_factor": 3}
     return {
         "dimension": 2,
         "materials": {"m": {"law": law, "density": RHO, "youngs_modulus": E,
                             "poisson_ratio": 1 / 3}},
-        "discretization": {"mesh_size": h, "horizon_factor": 3},
+        "discretization": disc,
         "shapes": {"plate": {"type": "rectangle", "size": [L, W], "mesh": "grid"}},
         "particles": [{"shape": "plate", "center": [0, 0], "material": "m"}],
         "loading": {"viscous_damping": 2 * math.pi * C0 / (2 * L), "conditions": [
@@ -219,6 +220,9 @@ PROBLEMS = {
                {"pmb": [2e-4, 1e-4, 5e-5, 2.5e-5], "lps": [2e-4, 1e-4, 5e-5, 2.5e-5]}),
     "wave3d": ("Wave speed in a bar (3D, 20 x 2 x 2 mm, grid, m = 3) vs sqrt(E / rho)",
                {"pmb": [4e-4, 2e-4, 1e-4], "lps": [4e-4, 2e-4, 1e-4]}),
+    "plate_m": ("m-convergence: the plate (PMB) at a fixed horizon delta = 0.8 mm, m = delta / h = "
+                "2, 3, 4, 6 (converges to the nonlocal answer, whose surface layer is fixed)",
+                {"pmb": [4e-4, 8e-4 / 3, 2e-4, 8e-4 / 6]}),
     "restitution": ("Restitution eps = 0.8 (2D discs R = 1 mm, PMB, m = 3)",
                     {"two discs": [2e-4, 1e-4, 5e-5], "disc on wall": [2e-4, 1e-4, 5e-5]}),
 }
@@ -234,8 +238,9 @@ PLACEHOLDERS = [
 
 def solve_level(runner, problem, series, h):
     tag = f"{problem}_{series.replace(' ', '_')}_{h:.3g}"
-    if problem == "plate":
-        h5, cp, cs = runner.run(tag, plate_scene(h, series))
+    if problem in ("plate", "plate_m"):
+        h5, cp, cs = runner.run(tag, plate_scene(h, series, delta=8e-4 if problem == "plate_m"
+                                                 else None))
         err, n, hh = plate_error(h5)
     elif problem in ("wave2d", "wave3d"):
         dim = 2 if problem == "wave2d" else 3
@@ -265,10 +270,22 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated problems")
     ap.add_argument("--results", default=HERE, help="where RESULTS.md and the PNGs go")
     ap.add_argument("--check", action="store_true")
+    ap.add_argument("--before", default="",
+                    help="results.json of a run without the calibration, tabled alongside")
+    ap.add_argument("--replot", action="store_true",
+                    help="only rewrite RESULTS.md and the PNGs from RESULTS/results.json")
     ap.add_argument("--set", action="append", default=[],
                     help="pd-pack --set for every run, e.g. solver.quadrature_calibration=false")
     a = ap.parse_args()
     out = a.out or os.path.join(a.build, "accuracy")
+    before = None
+    if a.before:
+        with open(a.before) as fh:
+            before = json.load(fh)
+    if a.replot:
+        with open(os.path.join(a.results, "results.json")) as fh:
+            write_results(json.load(fh), a.results, before)
+        return 0
     runner = Runner(a.build, out, a.set)
     only = [p for p in a.only.split(",") if p] or list(PROBLEMS)
     results = {}
@@ -299,11 +316,21 @@ def main():
         with open(os.path.join(out, "results.json"), "w") as fh:
             json.dump(results, fh, indent=1)
         return 1 if failures else 0
-    write_results(results, a.results)
+    write_results(results, a.results, before)
     return 0
 
 
-def write_results(results, where):
+def table(lines, ser):
+    lines += ["| series | h (mm) | nodes | CPU pack s | CPU solve s | error | order |",
+              "|---|---|---|---|---|---|---|"]
+    for s, rows in ser.items():
+        for r, o in zip(rows, order(rows)):
+            lines.append(f"| {s} | {1e3 * r['h']:.3g} | {r['nodes']} | {r['cpu_pack']:.2f} | "
+                         f"{r['cpu_solve']:.2f} | {100 * r['error']:+.3f} % | "
+                         f"{'' if o is None else f'{o:.2f}'} |")
+
+
+def write_results(results, where, before=None):
     os.makedirs(where, exist_ok=True)
     with open(os.path.join(where, "results.json"), "w") as fh:
         json.dump(results, fh, indent=1)
@@ -316,14 +343,12 @@ def write_results(results, where):
              ", model/quadrature.hpp).", ""]
     for p, ser in results.items():
         title = PROBLEMS[p][0]
-        lines += [f"## {title}", "", f"![{p}]({p}.png)", "",
-                  "| series | h (mm) | nodes | CPU pack s | CPU solve s | error | order |",
-                  "|---|---|---|---|---|---|---|"]
-        for s, rows in ser.items():
-            for r, o in zip(rows, order(rows)):
-                lines.append(f"| {s} | {1e3 * r['h']:.3g} | {r['nodes']} | {r['cpu_pack']:.2f} | "
-                             f"{r['cpu_solve']:.2f} | {100 * r['error']:+.3f} % | "
-                             f"{'' if o is None else f'{o:.2f}'} |")
+        lines += [f"## {title}", "", f"![{p}]({p}.png)", ""]
+        table(lines, ser)
+        if before and p in before:
+            lines += ["", "Before the calibration (`--set solver.quadrature_calibration=false`, "
+                      "the continuum constants):", ""]
+            table(lines, before[p])
         lines.append("")
         plot(title, ser, os.path.join(where, f"{p}.png"))
     lines += ["## Not covered here", "", "| problem | status |", "|---|---|"]
