@@ -80,7 +80,7 @@ def plate_scene(h, law, L=8e-3, W=4e-3, sigma=1e5, delta=None):
         "loading": {"viscous_damping": 2 * math.pi * C0 / (2 * L), "conditions": [
             {"kind": "displacement", "region": {"min": [-L, -W], "max": [-L / 2 + d + e, W]},
              "components": ["x"], "value": 0},
-            {"kind": "displacement", "region": {"min": [-L, -h / 2], "max": [-L / 2 + d + e, h / 2]},
+            {"kind": "displacement", "region": {"min": [-L, -0.6 * h], "max": [-L / 2 + d + e, 0.6 * h]},
              "components": ["y"], "value": 0},
             {"kind": "force_density", "region": {"min": [L / 2 - d - e, -W], "max": [L, W]},
              "components": ["x"], "value": sigma / d}]},
