@@ -60,24 +60,41 @@ QuadratureFactors quadrature_factors(const Model& m, std::size_t b, int max_samp
     //   PMB/RNP: M = sum J r n^4 beta V;  LPS: Q = sum J r^2 n^4 beta V, P = sum J r^2 n n beta V.
     struct Sample {
         double vol = 0, m11 = 0, m12 = 0, q11 = 0, q12 = 0, p11 = 0, mw = 0;
-        double boundary = 1e300; ///< squared distance to the nearest surface-layer node
+        double boundary = 1e300; ///< distance to the boundary (support-function bound)
     };
     std::vector<Sample> samples(ns);
-    // Surface-layer nodes (/nodes/surface: at least the outermost layer) mark the boundary: a
-    // family is complete when none lies within the reach. Not usable when every node of the body
-    // is flagged (small grains; 3D grid shapes are flagged whole today).
-    bool has_surface = m.nodes.surface.size() == m.nodes.num();
-    if (has_surface) {
-        std::size_t flagged = 0;
-        for (std::size_t j = i0; j < i1; ++j)
-            flagged += m.nodes.surface[j] ? 1 : 0;
-        has_surface = flagged < i1 - i0;
+    // The body's extent along a fan of directions (its support function): a node's distance to
+    // the boundary is at least min over u of (extent(u) - u . x), exactly so for a convex body
+    // up to the fan's resolution (a concave notch can hide; the volume test below remains).
+    std::vector<std::array<double, 3>> fan;
+    if (d == 2) {
+        for (int k = 0; k < 24; ++k)
+            fan.push_back({std::cos(k * pi / 12), std::sin(k * pi / 12), 0});
+    } else {
+        for (int a = -1; a <= 1; ++a)
+            for (int c = -1; c <= 1; ++c)
+                for (int e = -1; e <= 1; ++e)
+                    if (a || c || e) {
+                        const double l = std::sqrt(a * a + c * c + e * e);
+                        fan.push_back({a / l, c / l, e / l});
+                    }
     }
+    for (auto& u : fan) // in the body frame: a grid's faces are then among the fan's normals
+        u = {co * u[0] - so * u[1], so * u[0] + co * u[1], u[2]};
+    std::vector<double> extent(fan.size(), -1e300);
+    for (std::size_t j = i0; j < i1; ++j)
+        for (std::size_t u = 0; u < fan.size(); ++u) {
+            const double* x = &m.nodes.x0[3 * j];
+            extent[u] = std::max(extent[u], fan[u][0] * x[0] + fan[u][1] * x[1] + fan[u][2] * x[2]);
+        }
     for (std::size_t s = 0; s < ns; ++s) {
         // Spread over the body (the middle of each of ns equal index ranges).
         const std::size_t i = i0 + (2 * s + 1) * nb / (2 * ns);
         const double* xi = &m.nodes.x0[3 * i];
         Sample& S = samples[s];
+        for (std::size_t u = 0; u < fan.size(); ++u)
+            S.boundary = std::min(S.boundary, extent[u] - (fan[u][0] * xi[0] + fan[u][1] * xi[1] +
+                                                           fan[u][2] * xi[2]));
         for (std::size_t j = i0; j < i1; ++j) {
             if (j == i)
                 continue;
@@ -87,8 +104,6 @@ QuadratureFactors quadrature_factors(const Model& m, std::size_t b, int max_samp
                 dx[k] = m.nodes.x0[3 * j + static_cast<std::size_t>(k)] - xi[k];
                 r2 += dx[k] * dx[k];
             }
-            if (has_surface && m.nodes.surface[j])
-                S.boundary = std::min(S.boundary, r2);
             if (!(r2 < reach * reach))
                 continue;
             const double r = std::sqrt(r2);
@@ -122,11 +137,10 @@ QuadratureFactors quadrature_factors(const Model& m, std::size_t b, int max_samp
         best = std::max(best, S.vol);
     Sample avg;
     for (const auto& S : samples) {
-        // Complete families only: no boundary node within the reach (a family one layer short of
-        // it misses 1.5 % of its volume in 3D and would pass a volume test), and the volume of a
-        // whole horizon (within 3 % of the best sample, 95 % of the ball; without surface flags
-        // within 0.5 % of the best: exact on grids, the densest families of an irregular mesh).
-        const bool clear = has_surface ? S.boundary >= reach * reach : S.vol >= 0.995 * best;
+        // Complete families only: the outermost nodes at least the reach away (a grid family one
+        // layer short of it misses 1.5 % of its volume in 3D and would pass a volume test), and
+        // the volume of a whole horizon (within 3 % of the best sample, 95 % of the ball).
+        const bool clear = S.boundary >= reach - 1e-9 * h;
         if (!clear || S.vol < 0.97 * best || S.vol < 0.95 * ball)
             continue;
         avg.m11 += S.m11;

@@ -35,8 +35,8 @@ struct QuadratureFactors {
 /// every MPI rank) with the cut-off the bond list used (delta + h/2 with linear partial volumes,
 /// or PeriDEM's strict < delta, told apart by a row length of /bonds/offsets). Up to
 /// `max_samples` nodes spread over the body are tried; those whose family covers the whole
-/// horizon (no surface-layer node, /nodes/surface, within reach; volume within 3 % of the best
-/// sample and at least 95 % of the ball) are averaged.
+/// horizon (the body's outermost nodes at least the reach away along a fan of directions; volume
+/// within 3 % of the best sample and at least 95 % of the ball) are averaged.
 QuadratureFactors quadrature_factors(const Model& m, std::size_t b, int max_samples = 48);
 
 } // namespace pd::model
