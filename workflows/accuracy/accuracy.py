@@ -300,7 +300,9 @@ def main():
                 print(f"[{p} {s}] h = {h:.3g} m, {r['nodes']} nodes, CPU {r['cpu_pack']:.2f} + "
                       f"{r['cpu_solve']:.2f} s, error {100 * r['error']:+.3f} %", flush=True)
                 rows.append(r)
-            results[p][s] = rows
+                results[p][s] = rows
+                with open(os.path.join(out, "partial.json"), "w") as fh:  # survives a stop
+                    json.dump(results, fh, indent=1)
     failures = []
     if a.check:
         for p, ser in results.items():
@@ -340,7 +342,13 @@ def write_results(results, where, before=None):
              "so the figures hold on a shared machine). Order = observed order of |error| in h "
              "between consecutive levels. Horizon factor m = 3, default bond cut-off (delta + h/2, "
              "linear partial volumes) and quadrature calibration on (`solver.quadrature_calibration`"
-             ", model/quadrature.hpp).", ""]
+             ", model/quadrature.hpp).", "",
+             "Two limits: at a fixed horizon factor m = delta / h, h and delta -> 0 together (the "
+             "issue's m-convergence; towards the local, classical answer: every table but one) and "
+             "at a fixed delta, m -> infinity (towards the nonlocal answer of that delta: "
+             "`plate_m`). The tables 'before' are a recorded run with the continuum constants "
+             "(`before.json`: `accuracy.py --only plate,wave2d,wave3d --set "
+             "solver.quadrature_calibration=false`).", ""]
     for p, ser in results.items():
         title = PROBLEMS[p][0]
         lines += [f"## {title}", "", f"![{p}]({p}.png)", ""]
