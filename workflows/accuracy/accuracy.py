@@ -192,7 +192,7 @@ def order(rows):
     return out
 
 
-def plot(problem, series, path):
+def plot(problem, series, path, before=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -201,10 +201,16 @@ def plot(problem, series, path):
         cpu = [r["cpu_solve"] + r["cpu_pack"] for r in rows]
         err = [max(abs(r["error"]), 1e-6) for r in rows]
         p = order(rows)[-1]
-        ax.loglog(cpu, err, "o-", label=f"{name} (order {p:.2f})" if p else name)
+        line, = ax.loglog(cpu, err, "o-", label=f"{name} (order {p:.2f})" if p else name)
+        if before and name in before:  # the continuum constants, dashed in the same colour
+            b = before[name]
+            ax.loglog([r["cpu_solve"] + r["cpu_pack"] for r in b],
+                      [max(abs(r["error"]), 1e-6) for r in b], "x--", color=line.get_color(),
+                      alpha=0.6, label=f"{name}, before calibration")
     ax.set_xlabel("CPU s (pd-pack + pd-solve, 1 thread)")
     ax.set_ylabel("|relative error|")
-    ax.set_title(problem, fontsize=10)
+    import textwrap
+    ax.set_title("\n".join(textwrap.wrap(problem, 60)), fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
@@ -358,7 +364,7 @@ def write_results(results, where, before=None):
                       "the continuum constants):", ""]
             table(lines, before[p])
         lines.append("")
-        plot(title, ser, os.path.join(where, f"{p}.png"))
+        plot(title, ser, os.path.join(where, f"{p}.png"), (before or {}).get(p))
     lines += ["## Not covered here", "", "| problem | status |", "|---|---|"]
     lines += [f"| {a} | {b} |" for a, b in PLACEHOLDERS]
     lines.append("")
