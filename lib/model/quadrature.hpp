@@ -16,6 +16,7 @@
 // 45 degrees remains off by the lattice anisotropy (2D PMB, m = 3: -1.3 %; see RESULTS in
 // workflows/accuracy). Surface families are not used (a per-node factor over-stiffens surfaces,
 // see solver.surface_correction); the surface layer's softening is what is left, O(delta / L).
+// A body with no complete family (thinner than about 2 delta + h) keeps the continuum constants.
 #pragma once
 
 #include "model/model.hpp"

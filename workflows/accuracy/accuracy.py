@@ -245,7 +245,8 @@ slower) and stiffer for LPS, which shrinks at first order with h at fixed m: eve
 falls monotonically towards zero. It is large where the body is only a few horizons wide (the
 2 x 2 mm bar in 3D: delta is 15-60 % of its width on these meshes), so the finest levels here
 are not all within 0.5 %: the first-order extrapolation of the plate is -0.1 % (PMB) and
--0.2 % (LPS) instead of -4.3 % / +2.0 % before.
+-0.2 % (LPS) instead of -4.3 % / +2.0 % before. A body with no complete family (thinner than
+about 2 delta + h: the 3D bar at h = 0.4 mm) keeps the continuum constants.
 """
 
 PLACEHOLDERS = [
