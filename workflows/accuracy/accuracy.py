@@ -229,7 +229,8 @@ PROBLEMS = {
     "plate_m": ("m-convergence: the plate (PMB) at a fixed horizon delta = 0.8 mm, m = delta / h = "
                 "2, 3, 4, 6 (converges to the nonlocal answer, whose surface layer is fixed)",
                 {"pmb": [4e-4, 8e-4 / 3, 2e-4, 8e-4 / 6]}),
-    "restitution": ("Restitution eps = 0.8 (2D discs R = 1 mm, PMB, m = 3)",
+    "restitution": ("Restitution eps = 0.8 (2D discs R = 1 mm, PMB, m = 3, contact radius 0.95 h: "
+                    "at h = 0.05 mm the node lattices meet as rough surfaces, README Contact)",
                     {"two discs": [2e-4, 1e-4, 5e-5], "disc on wall": [2e-4, 1e-4, 5e-5]}),
 }
 
