@@ -3,7 +3,8 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
-.PHONY: all deps deps-test configure build test demo bench examples examples-run format format-check clean
+.PHONY: all deps deps-test configure build test demo bench examples examples-run accuracy stability \
+	format format-check clean
 
 all: build
 
@@ -38,6 +39,17 @@ examples: build
 
 examples-run:
 	@bash examples/run_quick.sh $(BUILD)/bin $(BUILD)/examples
+
+# Error against CPU time of the accuracy problems (workflows/accuracy: RESULTS.md, one PNG each;
+# about 20-30 min on 2 cores), then the time-step stability map when its workflow exists.
+accuracy: build
+	@bash workflows/accuracy/run.sh $(BUILD) --before workflows/accuracy/before.json
+	@$(MAKE) --no-print-directory stability
+
+stability: build
+	@if [ -f workflows/accuracy/stability/run.sh ]; then \
+	  bash workflows/accuracy/stability/run.sh $(BUILD); \
+	else echo "stability: workflows/accuracy/stability/run.sh not present, skipped"; fi
 
 SOURCES = $(shell find lib tools tests workflows -name '*.cpp' -o -name '*.hpp')
 

@@ -190,6 +190,10 @@ struct SolverSettings {
     Integrator integrator = Integrator::velocity_verlet;
     double contact_skin = 0;         ///< m; 0 = automatic (the largest contact radius)
     bool surface_correction = false; ///< PMB isotropic surface correction (opt-in, see solver)
+    /// Scale each body's bond-law constants so that its interior families reproduce the
+    /// classical modulus on the actual quadrature (model/quadrature.hpp); off = continuum constants
+    /// (PeriDEM parity, and files written before pd-file 1.3).
+    bool quadrature_calibration = true;
     /// Nodal fields written in frames besides position (only these are computed at frames).
     std::vector<std::string> fields{"velocity", "displacement", "force",       "damage",
                                     "damage_z", "fragment",     "broken_bonds"};

@@ -1131,7 +1131,8 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log, bool 
                 {"dt", dt},
                 {"integrator",
                  time_scheme == "central_difference" ? "symplectic_euler" : "velocity_verlet"},
-                {"surface_correction", false}};
+                {"surface_correction", false},
+                {"quadrature_calibration", false}};
     if (auto out = R["Output"]) {
         const double every = num_or(out, "Output", "Output_Interval", 0);
         if (every > 0)

@@ -1377,7 +1377,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     const json& sv = root["solver"];
     check_keys(sv, "solver",
                {"final_time", "dt", "dt_safety", "output_interval", "observe_every", "integrator",
-                "contact_skin", "checkpoint_interval", "surface_correction", "fields"});
+                "contact_skin", "checkpoint_interval", "surface_correction",
+                "quadrature_calibration", "fields"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
     if (sv.contains("dt") && sv["dt"].is_string())
@@ -1393,6 +1394,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     S.observe_every = static_cast<std::int64_t>(positive(sv, "solver", "observe_every", 1));
     S.checkpoint_interval = number(sv, "solver", "checkpoint_interval", 0);
     S.surface_correction = boolean(sv, "solver", "surface_correction", false);
+    S.quadrature_calibration = boolean(sv, "solver", "quadrature_calibration", true);
     if (sv.contains("fields")) {
         if (!sv["fields"].is_array())
             throw ConfigError("solver.fields", "expected a list of frame fields");

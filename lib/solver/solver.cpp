@@ -5,6 +5,7 @@
 #include "model/functions.hpp"
 #include "model/lps.hpp"
 #include "model/pmb.hpp"
+#include "model/quadrature.hpp"
 #include "model/rnp.hpp"
 #include "solver/bond_forces.hpp"
 
@@ -135,28 +136,33 @@ Solver::Solver(const model::Model& m, Domain* dom, std::vector<index_t> row_neig
     law_.alpha = m.dimension == 3 ? 15.0 : 8.0;
     for (std::size_t b = 0; b < nb; ++b) {
         const auto& mat = m.materials[static_cast<std::size_t>(m.bodies.material[b])];
+        // Constants calibrated on the body's actual quadrature (model/quadrature.hpp); computed
+        // from the reference nodes, so every rank gets the same factors.
+        const auto qf = m.solver.quadrature_calibration && !m.bodies.fixed[b]
+                            ? model::quadrature_factors(m, b)
+                            : model::QuadratureFactors{};
         if (mat.law == model::Law::rnp) {
             auto k = model::rnp_constants(mat, m.bodies.horizon[b], m.dimension);
             law_.rnp[b] = 1;
             law_.rnp_c[b] = k.C;
             law_.rnp_beta[b] = k.beta;
             law_.rnp_rbar[b] = k.rbar;
-            law_.rnp_inv[b] = k.inv_factor;
+            law_.rnp_inv[b] = k.inv_factor / qf.pmb;
             law_.s0[b] = k.rbar; // breakable (S_c depends on the bond length)
-            law_.c[b] = 4 * k.C * k.beta / k.inv_factor; // small-strain stiffness, dt estimate
+            law_.c[b] = 4 * k.C * k.beta / law_.rnp_inv[b]; // small-strain stiffness, dt estimate
             law_.any_rnp = law_.any_rnp || !m.bodies.fixed[b];
         } else if (mat.law == model::Law::lps) {
             auto k = model::lps_constants(mat, m.bodies.horizon[b], m.dimension, m.planar);
             law_.lps[b] = 1;
-            law_.kappa[b] = k.kappa;
-            law_.mu[b] = k.mu;
+            law_.kappa[b] = k.kappa * qf.kappa;
+            law_.mu[b] = k.mu * qf.mu;
             law_.s0[b] = k.s0;
             // Bond-based micromodulus of the same Young's modulus: for the dt estimate only.
             law_.c[b] = model::pmb_constants(mat, m.bodies.horizon[b], m.dimension, m.planar).c;
             law_.any_lps = law_.any_lps || !m.bodies.fixed[b];
         } else {
             auto k = model::pmb_constants(mat, m.bodies.horizon[b], m.dimension, m.planar);
-            law_.c[b] = k.c;
+            law_.c[b] = k.c * qf.pmb;
             law_.s0[b] = k.s0;
             law_.any_pmb = law_.any_pmb || !m.bodies.fixed[b];
         }

@@ -281,6 +281,8 @@ void write_model(h5::File& f, const model::Model& m) {
     put_scalar(f, s + "/observe_every", S.observe_every, "1");
     put_scalar(f, s + "/contact_skin", S.contact_skin, "m");
     put_scalar(f, s + "/surface_correction", static_cast<std::int32_t>(S.surface_correction), "1");
+    put_scalar(f, s + "/quadrature_calibration",
+               static_cast<std::int32_t>(S.quadrature_calibration), "1");
     {
         std::string fl;
         for (const auto& x : S.fields)
@@ -579,6 +581,9 @@ model::Model read_model(const h5::File& f, bool neighbors) {
     S.contact_skin = get_scalar<double>(f, s + "/contact_skin");
     S.surface_correction = f.exists(s + "/surface_correction") &&
                            get_scalar<std::int32_t>(f, s + "/surface_correction") != 0;
+    // Absent (files before 1.3.0) = off: such a file solves as it did when it was written.
+    S.quadrature_calibration = f.exists(s + "/quadrature_calibration") &&
+                               get_scalar<std::int32_t>(f, s + "/quadrature_calibration") != 0;
     if (f.has_attr(s, "fields")) {
         S.fields.clear();
         std::string fl = f.attr_string(s, "fields");
