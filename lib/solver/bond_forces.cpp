@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 
 namespace pd::solver {
 
@@ -477,12 +478,57 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
 
 } // namespace
 
+void bond_constants(const State& s, BondData& b, BodyLaw& law) {
+    const auto nbond = b.xi.size();
+    b.kb.resize(nbond);
+    b.lc.resize(nbond);
+    b.wv.assign(b.omega.empty() ? 0 : nbond, 0.0);
+    for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a) {
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(s.rows[a])]);
+        const double s0 = law.s0[body];
+        for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const double vj = s.vol[static_cast<std::size_t>(b.neighbor[kk])];
+            b.kb[kk] = law.c[body] * b.stiff[kk] * vj / b.xi[kk];
+            b.lc[kk] =
+                std::isfinite(s0) ? b.xi[kk] * (1.0 + s0) : std::numeric_limits<double>::infinity();
+            if (!b.wv.empty())
+                b.wv[kk] = b.omega[kk] * b.beta[kk] * vj;
+        }
+    }
+    if (law.m.size() != s.n)
+        return; // no LPS body
+    law.lps_p.assign(s.n, 0.0);
+    law.lps_a.assign(s.n, 0.0);
+    law.lps_k.assign(s.n, 0.0);
+    for (std::size_t i = 0; i < s.n; ++i) {
+        const auto body = static_cast<std::size_t>(s.body[i]);
+        const double mi = law.m[i];
+        if (!law.lps[body] || !(mi > 0))
+            continue; // (nodes neither owned nor ghosts have m = 0)
+        law.lps_a[i] = law.alpha * law.mu[body] / mi;
+        law.lps_k[i] = law.dimension * law.kappa[body] / mi;
+    }
+}
+
+namespace {
+/// Callers that fill BondData and BodyLaw by hand (tests) get the constants on the first call.
+void ensure_constants(const State& s, BondData& b, const BodyLaw& law) {
+    if (b.kb.size() != b.xi.size() || b.lc.size() != b.xi.size() ||
+        (!b.omega.empty() && b.wv.size() != b.xi.size()) ||
+        (law.m.size() == s.n && law.lps_a.size() != s.n))
+        bond_constants(s, b, const_cast<BodyLaw&>(law));
+}
+} // namespace
+
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law) {
+    ensure_constants(s, b, law);
     return law.any_breakable ? rnp_kernel<true>(s, b, law) : rnp_kernel<false>(s, b, law);
 }
 
 BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
                            const std::function<void()>& between) {
+    ensure_constants(s, b, law);
     if (law.energy)
         return law.any_breakable ? lps_kernel<true, true>(s, b, law, between)
                                  : lps_kernel<false, true>(s, b, law, between);
@@ -491,6 +537,7 @@ BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
 }
 
 BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law) {
+    ensure_constants(s, b, law);
     if (law.energy)
         return law.any_breakable ? kernel<true, true>(s, b, law) : kernel<false, true>(s, b, law);
     return law.any_breakable ? kernel<true, false>(s, b, law) : kernel<false, false>(s, b, law);

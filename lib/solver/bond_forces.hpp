@@ -40,6 +40,11 @@ BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
 /// Sets f = RNP force density of every node of a moving RNP body (spec 1.4, model/rnp.hpp).
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law);
 
+/// Fills the kernels' per-bond constants (b.kb, b.wv, b.lc) and the LPS per-node constants
+/// (law.lps_a, lps_k; lps_p sized) from the per-body law and the per-bond factors. Call again
+/// whenever either changes; the kernels call it themselves when the sizes do not match.
+void bond_constants(const State& s, BondData& b, BodyLaw& law);
+
 /// Damage phi_i = sum of beta V_j over broken bonds / sum over all bonds (spec decision 4).
 void damage_phi(const State& s, const BondData& b, std::vector<double>& phi);
 

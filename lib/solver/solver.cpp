@@ -815,36 +815,10 @@ void Solver::family_factors() {
         dom_->exchange({&law_.m}, 1);
         law_.theta.assign(n, 0.0);
         law_.q.assign(n, 0.0);
-        law_.lps_p.assign(n, 0.0);
-        law_.lps_a.assign(n, 0.0);
-        law_.lps_k.assign(n, 0.0);
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto b = static_cast<std::size_t>(s_.body[i]);
-            const double mi = law_.m[i];
-            if (!law_.lps[b] || !(mi > 0))
-                continue; // (nodes neither owned nor ghosts have m = 0)
-            law_.lps_a[i] = law_.alpha * law_.mu[b] / mi;
-            law_.lps_k[i] = law_.dimension * law_.kappa[b] / mi;
-        }
     }
-    // Per-bond constants of the kernels (BondData::kb, wv, lc), from the per-body law and the
-    // per-bond factors above, so that a calibration of either composes.
-    const auto nbond = b_.xi.size();
-    b_.kb.resize(nbond);
-    b_.lc.resize(nbond);
-    b_.wv.assign(b_.omega.empty() ? 0 : nbond, 0.0);
-    for (std::size_t a = 0; a < nr; ++a) {
-        const auto b = static_cast<std::size_t>(s_.body[static_cast<std::size_t>(s_.rows[a])]);
-        for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            const double vj = s_.vol[static_cast<std::size_t>(b_.neighbor[kk])];
-            b_.kb[kk] = law_.c[b] * b_.stiff[kk] * vj / b_.xi[kk];
-            b_.lc[kk] = std::isfinite(law_.s0[b]) ? b_.xi[kk] * (1.0 + law_.s0[b])
-                                                  : std::numeric_limits<double>::infinity();
-            if (!b_.wv.empty())
-                b_.wv[kk] = b_.omega[kk] * b_.beta[kk] * vj;
-        }
-    }
+    // Per-bond and per-node constants of the kernels, from the per-body law and the per-bond
+    // factors above, so that a calibration of either composes.
+    bond_constants(s_, b_, law_);
 }
 
 void Solver::check_whole_grains() const {
