@@ -385,6 +385,19 @@ void Solver::compute_forces() {
     }
 }
 
+void Solver::bond_forces_only(bool reference) {
+    if (reference) {
+        pmb_bond_forces_reference(s_, b_, law_);
+        return;
+    }
+    if (law_.any_pmb || (!law_.any_lps && !law_.any_rnp))
+        pmb_bond_forces(s_, b_, law_);
+    if (law_.any_lps)
+        lps_bond_forces(s_, b_, law_);
+    if (law_.any_rnp)
+        rnp_bond_forces(s_, b_, law_);
+}
+
 void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
                            const std::vector<BodyWallForce>& walls) {
     // Grain-level hysteretic damping with true grain masses (spec decision 6). For each pair of

@@ -20,11 +20,13 @@ using model::index_t;
 using model::offset_t;
 
 /// Loops over fewer items than this run on one thread: a parallel region costs microseconds,
-/// more than a small grain's whole step. Measured (workflows/bench/RESULTS.md, issue 15): the
-/// bond kernels gain from a second thread from about 1000 rows (2D, 35 bonds per row), the
-/// node loops (integration, observables) only from about 20 000 nodes.
+/// more than a small grain's whole step. Measured on the shared 2-core CI machine under load
+/// (issue 15, workflows/bench/RESULTS.md): a second thread made compressive_small (2 643 nodes)
+/// 10x more expensive in CPU time and slower in wall time (each region waits for a descheduled
+/// thread), so the bond kernels keep 4096 rows and the short node loops (integration,
+/// observables, external power) go parallel only from 16 384 nodes.
 inline constexpr std::int64_t parallel_min = 4096;
-inline constexpr std::int64_t parallel_min_bonds = 1024;
+inline constexpr std::int64_t parallel_min_bonds = 4096;
 inline constexpr std::int64_t parallel_min_nodes = 16384;
 
 /// Should a loop over `n` items run on the OpenMP team? Callers branch on it rather than use an
