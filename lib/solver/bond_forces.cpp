@@ -227,6 +227,8 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
     const double* mw = law.m.data();
     const double* wv = b.wv.data();
     const double* lc = b.lc.data();
+    double* len = b.len.data();
+    double* inv_len = b.inv_len.data();
     double* pshare = law.lps_p.data();
     const double* ka = law.lps_a.data();
     const double* kt = law.lps_k.data();
@@ -248,6 +250,8 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            len[k] = l; // for pass 2: no second sqrt nor division there
+            inv_len[k] = 1.0 / l;
             th += wv[k] * xi[k] * (l - xi[k]);
             bad |= (l > lc[k]) | (alive[k] != 1);
         }
@@ -303,10 +307,9 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
         for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-            const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            const double e = l - xi[k];
+            const double e = len[k] - xi[k];
             const double t = (a_i + ka[j]) * e + xi[k] * (pi + pshare[j]);
-            const double ab = wv[k] * t / l;
+            const double ab = wv[k] * t * inv_len[k];
             fi[0] += ab * d0;
             fi[1] += ab * d1;
             fi[2] += ab * d2;
@@ -483,6 +486,8 @@ void bond_constants(const State& s, BondData& b, BodyLaw& law) {
     b.kb.resize(nbond);
     b.lc.resize(nbond);
     b.wv.assign(b.omega.empty() ? 0 : nbond, 0.0);
+    b.len.assign(b.wv.size(), 0.0);
+    b.inv_len.assign(b.wv.size(), 0.0);
     for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a) {
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(s.rows[a])]);
         const double s0 = law.s0[body];
@@ -515,7 +520,7 @@ namespace {
 /// Callers that fill BondData and BodyLaw by hand (tests) get the constants on the first call.
 void ensure_constants(const State& s, BondData& b, const BodyLaw& law) {
     if (b.kb.size() != b.xi.size() || b.lc.size() != b.xi.size() ||
-        (!b.omega.empty() && b.wv.size() != b.xi.size()) ||
+        (!b.omega.empty() && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
         (law.m.size() == s.n && law.lps_a.size() != s.n))
         bond_constants(s, b, const_cast<BodyLaw&>(law));
 }

@@ -116,6 +116,9 @@ struct BondData {
     std::vector<double> kb; ///< PMB: c stiff V_j / xi (force density = kb (l - xi) / l), N m-7
     std::vector<double> wv; ///< LPS: omega beta V_j, m3
     std::vector<double> lc; ///< length at which the bond breaks, xi (1 + s0) (inf: never), m
+    /// LPS work arrays: |x_j - x_i| and its inverse from the dilatation pass, reused by the force
+    /// pass (one sqrt and one division per bond for both passes).
+    std::vector<double> len, inv_len;
 };
 
 /// True if some node moved farther than `limit` (m) from where it was in `x_ref` (3 per node):
