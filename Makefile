@@ -61,3 +61,9 @@ format-check:
 
 clean:
 	@rm -rf $(BUILD)
+
+# Benchmarks (CPU time, best / median of several runs; tables of workflows/bench/RESULTS.md):
+# the solver's hot paths with the naive bond loop side by side, then PeriDEM's decks.
+bench: build
+	@$(BUILD)/bin/solver_bench
+	@/usr/bin/python3 workflows/bench/peridem/run.py --build $(BUILD)

@@ -501,9 +501,11 @@ void solve(const SolveOptions& opt, Context& ctx) {
         solver::Observables last_obs = s.observe();
         double busy_at_frame = 0, imbalance = 1.0; // compute time max/mean over ranks
         for (std::int64_t n = first + 1; n <= last; ++n) {
-            s.advance();
             const bool frame = n % out_every == 0 || n == total;
-            if (n % obs_every == 0 || frame || n == last) {
+            const bool observed = n % obs_every == 0 || frame || n == last;
+            s.set_energies(observed); // bond energies only where a row is written
+            s.advance();
+            if (observed) {
                 const auto o = s.observe(); // collective: every rank at the same steps
                 last_obs = o;
                 agreed = true; // the checks below see the same reduced values on every rank

@@ -3,13 +3,38 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 
 namespace pd::solver {
 
 namespace {
 
+/// Runs row(a, acc...) for every row a in [0, n), on the OpenMP team when the loop is long
+/// enough (threaded()), else serially without entering a parallel region.
+struct Sums {
+    double energy = 0, released = 0, repulsion = 0;
+    std::int64_t broken = 0;
+};
+
+template <class Row>
+Sums over_rows(std::int64_t n, Row&& row) {
+    double energy = 0, released = 0, repulsion = 0;
+    std::int64_t broken = 0;
+    if (threaded(n, parallel_min_bonds)) {
+#pragma omp parallel for schedule(static) reduction(+ : energy, broken, released, repulsion)
+        for (std::int64_t a = 0; a < n; ++a)
+            row(a, energy, released, repulsion, broken);
+    } else {
+        for (std::int64_t a = 0; a < n; ++a)
+            row(a, energy, released, repulsion, broken);
+    }
+    return {energy, released, repulsion, broken};
+}
+
+/// The reference loop of the PMB kernel as it was before issue 15 (stretch, two divisions per
+/// bond), kept for solver_bench's side-by-side: same forces to rounding.
 template <bool Breakable>
-BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
+BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
     const auto n = static_cast<std::int64_t>(s.rows.size());
     const index_t* rows = s.rows.data();
     const double* x = s.x.data();
@@ -18,56 +43,29 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     const offset_t* off = b.offsets.data();
     const index_t* nb = b.neighbor.data();
     const double* xi = b.xi.data();
-    const double* beta = b.stiff.data(); // partial volume x quadrature correction
+    const double* beta = b.stiff.data();
     std::uint8_t* alive = b.alive.data();
-    double energy = 0, released = 0, repulsion = 0;
+    double energy = 0;
     std::int64_t broken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : energy, broken, released, repulsion) if (n > parallel_min)
     for (std::int64_t a = 0; a < n; ++a) {
         const std::int64_t i = rows[a];
-        double fi[3] = {0, 0, 0};
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
-        if (law.lps[body] || law.rnp[body])
-            continue; // the LPS or RNP kernel owns this row
-        if (!s.moving[static_cast<std::size_t>(i)]) {
-            f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
+        if (law.lps[body] || law.rnp[body] || !s.moving[static_cast<std::size_t>(i)])
             continue;
-        }
-        const double c = law.c[body];
-        const double s0 = law.s0[body];
-        const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-        double e_i = 0, e_rel = 0, e_rep = 0;
-        const double kr = law.krep[body], rr = law.rrep[body];
+        const double c = law.c[body], s0 = law.s0[body];
+        double fi[3] = {0, 0, 0}, e_i = 0;
         for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
-            const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+            const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
+                         d2 = x[3 * j + 2] - x[3 * i + 2];
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            if (Breakable && !alive[k]) {
-                // Fragments of one grain repel across broken bonds (spec 4.7).
-                if (l < rr) {
-                    const double a = kr * (l - rr) * vol[j] / l;
-                    fi[0] += a * d0;
-                    fi[1] += a * d1;
-                    fi[2] += a * d2;
-                    e_rep += kr * (rr - l) * (rr - l) * vol[j];
-                }
+            if (Breakable && !alive[k])
                 continue;
-            }
             const double st = (l - xi[k]) / xi[k];
-            if constexpr (Breakable) {
-                if (st > s0) { // tension only; i->j and j->i see identical l, xi: symmetric
-                    alive[k] = 0;
-                    ++broken;
-                    // The energy it held, less half the work its force would have done over
-                    // the step that broke it: the trapezoid the integrator applied to the
-                    // step lacks that half, so the balance closes to O(dt^2), not O(dt).
-                    const double* v = s.v.data();
-                    const double dv = d0 * (v[3 * j] - v[3 * i]) +
-                                      d1 * (v[3 * j + 1] - v[3 * i + 1]) +
-                                      d2 * (v[3 * j + 2] - v[3 * i + 2]);
-                    e_rel += c * st * beta[k] * vol[j] * (st * xi[k] - law.dt * dv / l);
-                    continue;
-                }
+            if (Breakable && st > s0) {
+                alive[k] = 0;
+                ++broken;
+                continue;
             }
             const double w = beta[k] * vol[j];
             const double a = c * st * w / l;
@@ -79,15 +77,128 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
         f[3 * i] = fi[0];
         f[3 * i + 1] = fi[1];
         f[3 * i + 2] = fi[2];
-        // Bond energy density 1/2 c s^2 xi per pair; the full list counts each pair twice.
         energy += 0.25 * e_i * vol[i];
-        released += 0.25 * e_rel * vol[i];
-        repulsion += 0.25 * e_rep * vol[i];
     }
-    return {energy, broken, released, repulsion};
+    return {energy, broken, 0.0, 0.0};
 }
 
-template <bool Breakable>
+/// PMB force of one row whose bonds are all intact, none breaking: the hot loop. Per bond one
+/// sqrt and one division, no branch; returns false (and leaves f_i alone) when a bond is broken
+/// or reaches its critical length, so the caller takes the general path.
+template <bool Energy>
+inline bool pmb_row_intact(const double* x, std::int64_t i, const index_t* nb, const double* xi,
+                           const double* kb, const double* lc, const std::uint8_t* alive,
+                           offset_t k0, offset_t k1, double* fi, double& e_i) {
+    const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+    double f0 = 0, f1 = 0, f2 = 0, e = 0;
+    int bad = 0;
+    for (offset_t k = k0; k < k1; ++k) {
+        const index_t j = nb[k];
+        const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+        const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+        const double ext = l - xi[k];
+        const double a = kb[k] * ext / l;
+        f0 += a * d0;
+        f1 += a * d1;
+        f2 += a * d2;
+        if constexpr (Energy)
+            e += kb[k] * ext * ext;
+        bad |= (l > lc[k]) | (alive[k] != 1);
+    }
+    if (bad)
+        return false;
+    fi[0] = f0;
+    fi[1] = f1;
+    fi[2] = f2;
+    e_i = e;
+    return true;
+}
+
+template <bool Breakable, bool Energy>
+BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
+    const auto n = static_cast<std::int64_t>(s.rows.size());
+    const index_t* rows = s.rows.data();
+    const double* x = s.x.data();
+    const double* vol = s.vol.data();
+    double* f = s.f.data();
+    const offset_t* off = b.offsets.data();
+    const index_t* nb = b.neighbor.data();
+    const double* xi = b.xi.data();
+    const double* kb = b.kb.data();
+    const double* lc = b.lc.data();
+    std::uint8_t* alive = b.alive.data();
+    auto row = [&](std::int64_t a, double& energy, double& released, double& repulsion,
+                   std::int64_t& broken) {
+        const std::int64_t i = rows[a];
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+        if (law.lps[body] || law.rnp[body])
+            return; // the LPS or RNP kernel owns this row
+        if (!s.moving[static_cast<std::size_t>(i)]) {
+            f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
+            return;
+        }
+        double fi[3] = {0, 0, 0};
+        double e_i = 0, e_rel = 0, e_rep = 0;
+        if (!pmb_row_intact<Energy>(x, i, nb, xi, kb, lc, alive, off[a], off[a + 1], fi, e_i)) {
+            // General path: broken bonds (repulsion), bonds breaking now.
+            fi[0] = fi[1] = fi[2] = e_i = 0;
+            const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+            const double kr = law.krep[body], rr = law.rrep[body];
+            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
+                const index_t j = nb[k];
+                const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+                const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+                if (!alive[k]) {
+                    // Fragments of one grain repel across broken bonds (spec 4.7).
+                    if (l < rr) {
+                        const double ar = kr * (l - rr) * vol[j] / l;
+                        fi[0] += ar * d0;
+                        fi[1] += ar * d1;
+                        fi[2] += ar * d2;
+                        if constexpr (Energy)
+                            e_rep += kr * (rr - l) * (rr - l) * vol[j];
+                    }
+                    continue;
+                }
+                const double ext = l - xi[k];
+                if (Breakable && l > lc[k]) {
+                    // Tension only; i->j and j->i see identical l, xi: symmetric. The energy it
+                    // held, less half the work its force would have done over the step that
+                    // broke it: the trapezoid the integrator applied to the step lacks that
+                    // half, so the balance closes to O(dt^2), not O(dt).
+                    alive[k] = 0;
+                    ++broken;
+                    const double* v = s.v.data();
+                    const double dv = d0 * (v[3 * j] - v[3 * i]) +
+                                      d1 * (v[3 * j + 1] - v[3 * i + 1]) +
+                                      d2 * (v[3 * j + 2] - v[3 * i + 2]);
+                    e_rel += kb[k] * ext * (ext - law.dt * dv / l);
+                    continue;
+                }
+                const double ab = kb[k] * ext / l;
+                fi[0] += ab * d0;
+                fi[1] += ab * d1;
+                fi[2] += ab * d2;
+                if constexpr (Energy)
+                    e_i += kb[k] * ext * ext;
+            }
+        }
+        f[3 * i] = fi[0];
+        f[3 * i + 1] = fi[1];
+        f[3 * i + 2] = fi[2];
+        // Bond energy density 1/2 c s^2 xi per pair = 1/2 kb ext^2; the full list counts each
+        // pair twice.
+        if constexpr (Energy) {
+            energy += 0.25 * e_i * vol[i];
+            repulsion += 0.25 * e_rep * vol[i];
+        }
+        released += 0.25 * e_rel * vol[i];
+    };
+    const Sums r = over_rows(n, row);
+    return {r.energy, r.broken, r.released, r.repulsion};
+}
+
+template <bool Breakable, bool Energy>
 BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
     // Energy of node i (spec 1.3, reference weighted volume m_i fixed for the whole run):
     //   W_i = k/2 theta_i^2 + alpha mu / (2 m_i) sum_intact w (e^d_ij)^2 beta V_j,
@@ -114,97 +225,136 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
     double* theta = law.theta.data();
     double* q = law.q.data();
     const double* mw = law.m.data();
-    std::int64_t broken = 0;
-    // Pass 1: break bonds (tension only, symmetric inputs), then dilatation and q.
-#pragma omp parallel for schedule(static) reduction(+ : broken) if (n > parallel_min)
-    for (std::int64_t a = 0; a < n; ++a) {
+    const double* wv = b.wv.data();
+    const double* lc = b.lc.data();
+    double* len = b.len.data();
+    double* inv_len = b.inv_len.data();
+    double* pshare = law.lps_p.data();
+    const double* ka = law.lps_a.data();
+    const double* kt = law.lps_k.data();
+    // Pass 1: break bonds (tension only, symmetric inputs), then dilatation, q and P.
+    auto pass1 = [&](std::int64_t a, double&, double&, double&, std::int64_t& broken) {
         const std::int64_t i = rows[a];
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (!law.lps[body] || !s.moving[static_cast<std::size_t>(i)]) {
             theta[i] = 0;
             q[i] = 0;
-            continue;
+            pshare[i] = 0;
+            return;
         }
-        const double s0 = law.s0[body];
-        double th = 0, mi = 0;
-        bool damaged = false;
+        const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+        // Hot loop: every bond intact, none breaking (no branch).
+        double th = 0;
+        int bad = 0;
         for (offset_t k = off[a]; k < off[a + 1]; ++k) {
-            if (Breakable && !alive[k]) {
-                damaged = true;
-                continue;
-            }
             const index_t j = nb[k];
-            const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
-                         d2 = x[3 * j + 2] - x[3 * i + 2];
-            const double e = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) - xi[k];
-            if constexpr (Breakable) {
-                if (e / xi[k] > s0) {
+            const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+            const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            len[k] = l; // for pass 2: no second sqrt nor division there
+            inv_len[k] = 1.0 / l;
+            th += wv[k] * xi[k] * (l - xi[k]);
+            bad |= (l > lc[k]) | (alive[k] != 1);
+        }
+        bool damaged = false;
+        double mi = 0;
+        if (bad) {
+            th = 0;
+            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
+                if (!alive[k]) {
+                    damaged = true;
+                    continue;
+                }
+                const index_t j = nb[k];
+                const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+                const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+                if (Breakable && l > lc[k]) {
                     alive[k] = 2;
                     damaged = true;
                     ++broken;
                     continue;
                 }
                 mi += om[k] * xi[k] * xi[k] * beta[k] * vol[j];
+                th += wv[k] * xi[k] * (l - xi[k]);
             }
-            th += om[k] * xi[k] * e * beta[k] * vol[j];
         }
         theta[i] = dd * th / mw[i];
         q[i] = damaged ? theta[i] / dd * (1.0 - mi / mw[i]) : 0.0;
-    }
+        pshare[i] = kt[i] * theta[i] - ka[i] * (theta[i] / dd + q[i]);
+    };
+    const std::int64_t broken = over_rows(n, pass1).broken;
     if (between)
         between(); // ghosts' dilatation and q
     // Pass 2: forces from both ends of every intact bond; the energy bonds broken in pass 1 held.
-    double energy = 0, released = 0, repulsion = 0;
-#pragma omp parallel for schedule(static) reduction(+ : energy, released, repulsion) if (n > parallel_min)
-    for (std::int64_t a = 0; a < n; ++a) {
+    auto pass2 = [&](std::int64_t a, double& energy, double& released, double& repulsion,
+                     std::int64_t&) {
         const std::int64_t i = rows[a];
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (!law.lps[body])
-            continue;
+            return;
         if (!s.moving[static_cast<std::size_t>(i)]) {
             f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
-            continue;
+            return;
         }
-        const double kap = law.kappa[body], mu = law.mu[body];
-        const double a_i = law.alpha * mu / mw[i];
-        const double p_i = dd * kap * theta[i] / mw[i];
+        const double kap = law.kappa[body];
+        const double a_i = ka[i];
+        const double p_i = kt[i] * theta[i];
+        const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
         double fi[3] = {0, 0, 0}, wdev = 0, e_rep = 0, th_new = 0;
         bool fresh = false;
-        const double kr = law.krep[body], rr = law.rrep[body];
+        // Hot loop (no branch): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)).
+        const double pi = pshare[i], ti = theta[i] / dd;
+        int bad = 0;
         for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
-            const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
-                         d2 = x[3 * j + 2] - x[3 * i + 2];
-            const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            if (Breakable && alive[k] != 1) {
-                if (alive[k] == 2) { // broken in pass 1: its share of the dilatation before
-                    fresh = true;
-                    th_new += om[k] * xi[k] * (l - xi[k]) * beta[k] * vol[j];
-                }
-                if (l < rr) { // fragments repel across broken bonds (spec 4.7)
-                    const double a = kr * (l - rr) * vol[j] / l;
-                    fi[0] += a * d0;
-                    fi[1] += a * d1;
-                    fi[2] += a * d2;
-                    e_rep += kr * (rr - l) * (rr - l) * vol[j];
-                }
-                continue;
+            const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+            const double e = len[k] - xi[k];
+            const double t = (a_i + ka[j]) * e + xi[k] * (pi + pshare[j]);
+            const double ab = wv[k] * t * inv_len[k];
+            fi[0] += ab * d0;
+            fi[1] += ab * d1;
+            fi[2] += ab * d2;
+            if constexpr (Energy) {
+                const double ed = e - ti * xi[k];
+                wdev += wv[k] * ed * ed;
             }
-            const double e = l - xi[k];
-            const double ed_i = e - theta[i] * xi[k] / dd;
-            const double ed_j = e - theta[j] * xi[k] / dd;
-            const double t_ij = om[k] * (p_i * xi[k] + a_i * (ed_i - q[i] * xi[k]));
-            const double t_ji = om[k] * (dd * kap * theta[j] / mw[j] * xi[k] +
-                                         law.alpha * mu / mw[j] * (ed_j - q[j] * xi[k]));
-            const double a = (t_ij + t_ji) * beta[k] * vol[j] / l;
-            fi[0] += a * d0;
-            fi[1] += a * d1;
-            fi[2] += a * d2;
-            wdev += om[k] * ed_i * ed_i * beta[k] * vol[j];
+            bad |= alive[k] != 1;
+        }
+        if (bad) { // general path: broken bonds (repulsion), bonds broken in pass 1
+            fi[0] = fi[1] = fi[2] = wdev = 0;
+            const double kr = law.krep[body], rr = law.rrep[body];
+            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
+                const index_t j = nb[k];
+                const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+                const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+                if (alive[k] != 1) {
+                    if (alive[k] == 2) { // broken in pass 1: its share of the dilatation before
+                        fresh = true;
+                        th_new += om[k] * xi[k] * (l - xi[k]) * beta[k] * vol[j];
+                    }
+                    if (l < rr) { // fragments repel across broken bonds (spec 4.7)
+                        const double ar = kr * (l - rr) * vol[j] / l;
+                        fi[0] += ar * d0;
+                        fi[1] += ar * d1;
+                        fi[2] += ar * d2;
+                        e_rep += kr * (rr - l) * (rr - l) * vol[j];
+                    }
+                    continue;
+                }
+                const double e = l - xi[k];
+                const double t = (a_i + ka[j]) * e + xi[k] * (pshare[i] + pshare[j]);
+                const double ab = wv[k] * t / l;
+                fi[0] += ab * d0;
+                fi[1] += ab * d1;
+                fi[2] += ab * d2;
+                const double ed_i = e - theta[i] * xi[k] / dd;
+                wdev += wv[k] * ed_i * ed_i;
+            }
         }
         f[3 * i] = fi[0];
         f[3 * i + 1] = fi[1];
         f[3 * i + 2] = fi[2];
+        if (!Energy && !fresh)
+            return;
         const double w_after = 0.5 * kap * theta[i] * theta[i] + 0.5 * a_i * wdev;
         energy += w_after * vol[i];
         repulsion += 0.25 * e_rep * vol[i]; // each pair from both ends
@@ -255,8 +405,9 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
                 (0.5 * kap * th_b * th_b + 0.5 * a_i * wdev_b - w_after - 0.5 * law.dt * pw) *
                 vol[i];
         }
-    }
-    return {energy, broken, released, repulsion};
+    };
+    const Sums r = over_rows(n, pass2);
+    return {Energy ? r.energy : 0.0, broken, r.released, Energy ? r.repulsion : 0.0};
 }
 
 template <bool Breakable>
@@ -273,17 +424,15 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
     const double* beta = b.beta.data();
     const double* om = b.omega.data();
     std::uint8_t* alive = b.alive.data();
-    double energy = 0, released = 0;
-    std::int64_t broken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : energy, broken, released) if (n > parallel_min)
-    for (std::int64_t a = 0; a < n; ++a) {
+    auto row = [&](std::int64_t a, double& energy, double& released, double&,
+                   std::int64_t& broken) {
         const std::int64_t i = rows[a];
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (!law.rnp[body])
-            continue;
+            return;
         if (!s.moving[static_cast<std::size_t>(i)]) {
             f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
-            continue;
+            return;
         }
         const double C = law.rnp_c[body], bt = law.rnp_beta[body], rb = law.rnp_rbar[body];
         const double inv = 1.0 / law.rnp_inv[body];
@@ -325,24 +474,82 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
         f[3 * i + 2] = fi[2];
         energy += e_i * vol[i];
         released += e_rel * vol[i];
-    }
-    return {energy, broken, released, 0.0};
+    };
+    const Sums r = over_rows(n, row);
+    return {r.energy, r.broken, r.released, 0.0};
 }
 
 } // namespace
 
+void bond_constants(const State& s, BondData& b, BodyLaw& law) {
+    const auto nbond = b.xi.size();
+    b.kb.resize(nbond);
+    b.lc.resize(nbond);
+    b.wv.assign(b.omega.empty() ? 0 : nbond, 0.0);
+    b.len.assign(b.wv.size(), 0.0);
+    b.inv_len.assign(b.wv.size(), 0.0);
+    for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a) {
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(s.rows[a])]);
+        const double s0 = law.s0[body];
+        for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const double vj = s.vol[static_cast<std::size_t>(b.neighbor[kk])];
+            b.kb[kk] = law.c[body] * b.stiff[kk] * vj / b.xi[kk];
+            b.lc[kk] =
+                std::isfinite(s0) ? b.xi[kk] * (1.0 + s0) : std::numeric_limits<double>::infinity();
+            if (!b.wv.empty())
+                b.wv[kk] = b.omega[kk] * b.beta[kk] * vj;
+        }
+    }
+    if (law.m.size() != s.n)
+        return; // no LPS body
+    law.lps_p.assign(s.n, 0.0);
+    law.lps_a.assign(s.n, 0.0);
+    law.lps_k.assign(s.n, 0.0);
+    for (std::size_t i = 0; i < s.n; ++i) {
+        const auto body = static_cast<std::size_t>(s.body[i]);
+        const double mi = law.m[i];
+        if (!law.lps[body] || !(mi > 0))
+            continue; // (nodes neither owned nor ghosts have m = 0)
+        law.lps_a[i] = law.alpha * law.mu[body] / mi;
+        law.lps_k[i] = law.dimension * law.kappa[body] / mi;
+    }
+}
+
+namespace {
+/// Callers that fill BondData and BodyLaw by hand (tests) get the constants on the first call.
+void ensure_constants(const State& s, BondData& b, const BodyLaw& law) {
+    if (b.kb.size() != b.xi.size() || b.lc.size() != b.xi.size() ||
+        (!b.omega.empty() && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
+        (law.m.size() == s.n && law.lps_a.size() != s.n))
+        bond_constants(s, b, const_cast<BodyLaw&>(law));
+}
+} // namespace
+
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law) {
+    ensure_constants(s, b, law);
     return law.any_breakable ? rnp_kernel<true>(s, b, law) : rnp_kernel<false>(s, b, law);
 }
 
 BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
                            const std::function<void()>& between) {
-    return law.any_breakable ? lps_kernel<true>(s, b, law, between)
-                             : lps_kernel<false>(s, b, law, between);
+    ensure_constants(s, b, law);
+    if (law.energy)
+        return law.any_breakable ? lps_kernel<true, true>(s, b, law, between)
+                                 : lps_kernel<false, true>(s, b, law, between);
+    return law.any_breakable ? lps_kernel<true, false>(s, b, law, between)
+                             : lps_kernel<false, false>(s, b, law, between);
 }
 
 BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law) {
-    return law.any_breakable ? kernel<true>(s, b, law) : kernel<false>(s, b, law);
+    ensure_constants(s, b, law);
+    if (law.energy)
+        return law.any_breakable ? kernel<true, true>(s, b, law) : kernel<false, true>(s, b, law);
+    return law.any_breakable ? kernel<true, false>(s, b, law) : kernel<false, false>(s, b, law);
+}
+
+BondResult pmb_bond_forces_reference(State& s, BondData& b, const BodyLaw& law) {
+    return law.any_breakable ? naive_kernel<true>(s, b, law) : naive_kernel<false>(s, b, law);
 }
 
 void damage_phi(const State& s, const BondData& b, std::vector<double>& phi) {

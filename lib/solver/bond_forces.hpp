@@ -23,8 +23,13 @@ struct BondResult {
 
 /// Sets f = PMB force density of every node of a moving body (0 elsewhere); breaks bonds whose
 /// stretch exceeds s0 (tension only) when `law.any_breakable`. Spec 1.5 with J = 1; constants in
-/// model/pmb.hpp.
+/// model/pmb.hpp, per bond in b.kb and b.lc. The elastic and repulsion energies are summed only
+/// when `law.energy` (else 0).
 BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law);
+
+/// The PMB loop as it was before issue 15 (the stretch and two divisions per bond, one
+/// thread), for solver_bench's side-by-side; the same forces to rounding.
+BondResult pmb_bond_forces_reference(State& s, BondData& b, const BodyLaw& law);
 
 /// Sets f = LPS force density of every node of a moving LPS body (spec 1.3, model/lps.hpp),
 /// two passes: dilatation (and bond breaking), then forces. Rows of PMB bodies are untouched.
@@ -34,6 +39,11 @@ BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
 
 /// Sets f = RNP force density of every node of a moving RNP body (spec 1.4, model/rnp.hpp).
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law);
+
+/// Fills the kernels' per-bond constants (b.kb, b.wv, b.lc) and the LPS per-node constants
+/// (law.lps_a, lps_k; lps_p sized) from the per-body law and the per-bond factors. Call again
+/// whenever either changes; the kernels call it themselves when the sizes do not match.
+void bond_constants(const State& s, BondData& b, BodyLaw& law);
 
 /// Damage phi_i = sum of beta V_j over broken bonds / sum over all bonds (spec decision 4).
 void damage_phi(const State& s, const BondData& b, std::vector<double>& phi);

@@ -283,13 +283,13 @@ StableDt Solver::stable_dt() const {
 void Solver::compute_forces() {
     {
         ScopedTimer t(timers_, t_bonds_);
-        elastic_energy_ = 0;
-        repulsion_energy_ = 0;
-        auto book = [this](const BondResult& res) {
-            elastic_energy_ += res.elastic_energy;
+        // Energies: kept from the last evaluation that summed them (set_energies).
+        double elastic = 0, repulsion = 0;
+        auto book = [&](const BondResult& res) {
+            elastic += res.elastic_energy;
             broken_total_ += res.newly_broken;
             diss_.fracture += res.released_energy;
-            repulsion_energy_ += res.repulsion_energy;
+            repulsion += res.repulsion_energy;
         };
         if (law_.any_pmb || (!law_.any_lps && !law_.any_rnp))
             book(pmb_bond_forces(s_, b_, law_));
@@ -298,12 +298,16 @@ void Solver::compute_forces() {
             if (dom_->distributed())
                 between = [this] {
                     ScopedTimer t(timers_, t_halo_);
-                    dom_->exchange({&law_.theta, &law_.q}, 1);
+                    dom_->exchange({&law_.theta, &law_.q, &law_.lps_p}, 1);
                 };
             book(lps_bond_forces(s_, b_, law_, between));
         }
         if (law_.any_rnp)
             book(rnp_bond_forces(s_, b_, law_));
+        if (law_.energy) {
+            elastic_energy_ = elastic;
+            repulsion_energy_ = repulsion;
+        }
     }
     reactions_.before(s_);
     if (contact_->active()) {
@@ -365,28 +369,39 @@ void Solver::compute_forces() {
         // Dissipation rate cd rho |v|^2 V of every moving node, prescribed components included:
         // there the reaction that imposes the motion works against the viscous force, and that
         // work is counted as external work.
-        double rate = 0;
-#pragma omp parallel for schedule(static) reduction(+ : rate) if (n > parallel_min)
-        for (std::int64_t a = 0; a < n; ++a) {
+        diss_.viscous_rate = sum_rows(n, parallel_min_nodes, [&](std::int64_t a) {
             const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
             const auto ii = static_cast<std::size_t>(i);
+            double rate = 0;
             for (int d = 0; d < 3; ++d) {
                 s_.f[3 * i + d] -= cd * s_.rho[ii] * s_.v[3 * i + d];
                 if (s_.moving[ii])
                     rate += cd * s_.rho[ii] * s_.v[3 * i + d] * s_.v[3 * i + d] * s_.vol[ii];
             }
-        }
-        diss_.viscous_rate = rate;
+            return rate;
+        });
     }
     if (g_[0] != 0 || g_[1] != 0 || g_[2] != 0) {
         const auto n = static_cast<std::int64_t>(s_.rows.size());
-#pragma omp parallel for schedule(static) if (n > parallel_min)
-        for (std::int64_t a = 0; a < n; ++a) {
+        for_each_row(n, parallel_min_nodes, [&](std::int64_t a) {
             const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
             for (int d = 0; d < 3; ++d)
                 s_.f[3 * i + d] += s_.rho[static_cast<std::size_t>(i)] * g_[d];
-        }
+        });
     }
+}
+
+void Solver::bond_forces_only(bool reference) {
+    if (reference) {
+        pmb_bond_forces_reference(s_, b_, law_);
+        return;
+    }
+    if (law_.any_pmb || (!law_.any_lps && !law_.any_rnp))
+        pmb_bond_forces(s_, b_, law_);
+    if (law_.any_lps)
+        lps_bond_forces(s_, b_, law_);
+    if (law_.any_rnp)
+        rnp_bond_forces(s_, b_, law_);
 }
 
 void Solver::apply_damping(const std::vector<BodyPairForce>& pairs,
@@ -820,6 +835,9 @@ void Solver::family_factors() {
         law_.theta.assign(n, 0.0);
         law_.q.assign(n, 0.0);
     }
+    // Per-bond and per-node constants of the kernels, from the per-body law and the per-bond
+    // factors above, so that a calibration of either composes.
+    bond_constants(s_, b_, law_);
 }
 
 void Solver::check_whole_grains() const {
@@ -986,11 +1004,10 @@ void Solver::advance() {
     const double kick = verlet ? 0.5 * dt : dt;
     {
         ScopedTimer t(timers_, t_integrate_);
-#pragma omp parallel for schedule(static) if (n > parallel_min)
-        for (std::int64_t r = 0; r < n; ++r) {
+        for_each_row(n, parallel_min_nodes, [&](std::int64_t r) {
             const std::int64_t i = rows[r];
             if (!s_.moving[static_cast<std::size_t>(i)])
-                continue;
+                return;
             const double a = kick / s_.rho[static_cast<std::size_t>(i)];
             const auto fixed = s_.fixed_dof[static_cast<std::size_t>(i)];
             for (int d = 0; d < 3; ++d) {
@@ -1001,7 +1018,7 @@ void Solver::advance() {
                 s_.u[k] += dt * s_.v[k];
                 s_.x[k] = s_.x0[k] + s_.u[k];
             }
-        }
+        });
     }
     s_.time += dt;
     ++s_.step;
@@ -1016,11 +1033,10 @@ void Solver::advance() {
     compute_forces();
     if (verlet) {
         ScopedTimer t(timers_, t_integrate_);
-#pragma omp parallel for schedule(static) if (n > parallel_min)
-        for (std::int64_t r = 0; r < n; ++r) {
+        for_each_row(n, parallel_min_nodes, [&](std::int64_t r) {
             const std::int64_t i = rows[r];
             if (!s_.moving[static_cast<std::size_t>(i)])
-                continue;
+                return;
             const double a = kick / s_.rho[static_cast<std::size_t>(i)];
             const auto fixed = s_.fixed_dof[static_cast<std::size_t>(i)];
             for (int d = 0; d < 3; ++d) {
@@ -1029,7 +1045,7 @@ void Solver::advance() {
                 const auto k = static_cast<std::size_t>(3 * i + d);
                 s_.v[k] += a * s_.f[k];
             }
-        }
+        });
     }
     const double p = external_power();
     external_work_ += 0.5 * (power_ + p) * dt; // trapezoidal in time
@@ -1048,11 +1064,10 @@ double Solver::external_power() const {
     const bool bc = !fbc_.empty();
     const bool prescribed = has_prescribed_;
     if (g || bc || prescribed) {
-#pragma omp parallel for schedule(static) reduction(+ : pw) if (n > parallel_min)
-        for (std::int64_t a = 0; a < n; ++a) {
+        pw = sum_rows(n, parallel_min_nodes, [&](std::int64_t a) {
             const auto ii = static_cast<std::size_t>(s_.rows[static_cast<std::size_t>(a)]);
             if (!s_.moving[ii])
-                continue;
+                return 0.0;
             double p = 0;
             for (std::size_t d = 0; d < 3; ++d) {
                 const double ext = s_.rho[ii] * g_[d] + (bc ? fbc_[3 * ii + d] : 0.0);
@@ -1060,8 +1075,8 @@ double Solver::external_power() const {
                 if (s_.fixed_dof[ii] & (1u << d))
                     p -= s_.f[3 * ii + d] * s_.v[3 * ii + d];
             }
-            pw += p * s_.vol[ii];
-        }
+            return p * s_.vol[ii];
+        });
     }
     for (std::size_t w = 0; w < m_.walls.size(); ++w) {
         const auto p = wall_pose(m_.walls[w], s_.time);
@@ -1076,8 +1091,7 @@ Observables Solver::observe() const {
     Observables o;
     double ke = 0, p0 = 0, p1 = 0, p2 = 0, gp = 0;
     const auto n = static_cast<std::int64_t>(s_.rows.size());
-#pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2, gp) if (n > parallel_min)
-    for (std::int64_t a = 0; a < n; ++a) {
+    auto node = [&](std::int64_t a, double& ke, double& p0, double& p1, double& p2, double& gp) {
         const std::int64_t i = s_.rows[static_cast<std::size_t>(a)];
         const double mass =
             s_.rho[static_cast<std::size_t>(i)] * s_.vol[static_cast<std::size_t>(i)];
@@ -1088,6 +1102,14 @@ Observables Solver::observe() const {
         p2 += mass * v[2];
         if (s_.moving[static_cast<std::size_t>(i)])
             gp -= mass * (g_[0] * s_.u[3 * i] + g_[1] * s_.u[3 * i + 1] + g_[2] * s_.u[3 * i + 2]);
+    };
+    if (threaded(n, parallel_min_nodes)) {
+#pragma omp parallel for schedule(static) reduction(+ : ke, p0, p1, p2, gp)
+        for (std::int64_t a = 0; a < n; ++a)
+            node(a, ke, p0, p1, p2, gp);
+    } else {
+        for (std::int64_t a = 0; a < n; ++a)
+            node(a, ke, p0, p1, p2, gp);
     }
     o.kinetic_energy = ke;
     o.momentum[0] = p0;

@@ -85,6 +85,14 @@ class Solver {
         law_.dt = dt;
     }
     double dt() const { return dt_; }
+    /// Whether the next force evaluations sum the elastic (bond) energy and the broken-bond
+    /// repulsion energy (on by default). observe() reports them as of the last evaluation that
+    /// did: pd-solve turns them on for the steps it observes only (issue 15). Dissipation,
+    /// fracture energy and external work are integrated at every step either way.
+    void set_energies(bool on) { law_.energy = on; }
+    /// The bond kernels alone on the current positions (benchmarks: workflows/bench);
+    /// `reference`: the naive PMB loop of before issue 15 instead. Overwrites the forces.
+    void bond_forces_only(bool reference = false);
 
     /// Sets initial velocities and computes forces at t = 0. Call once before step().
     void initialize();

@@ -10,6 +10,9 @@
 #include <map>
 #include <utility>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace pd::solver {
 
@@ -17,8 +20,60 @@ using model::index_t;
 using model::offset_t;
 
 /// Loops over fewer items than this run on one thread: a parallel region costs microseconds,
-/// more than a small grain's whole step.
+/// more than a small grain's whole step. Measured on the shared 2-core CI machine under load
+/// (issue 15, workflows/bench/RESULTS.md): a second thread made compressive_small (2 643 nodes)
+/// 10x more expensive in CPU time and slower in wall time (each region waits for a descheduled
+/// thread), so the bond kernels keep 4096 rows and the short node loops (integration,
+/// observables, external power) go parallel only from 16 384 nodes.
 inline constexpr std::int64_t parallel_min = 4096;
+inline constexpr std::int64_t parallel_min_bonds = 4096;
+inline constexpr std::int64_t parallel_min_nodes = 16384;
+
+/// Should a loop over `n` items run on the OpenMP team? Callers branch on it rather than use an
+/// `if` clause: libgomp enters (and leaves, with a futex call) a one-thread region even when the
+/// clause is false, some 2-5 us per loop, a third of a small deck's step (issue 15).
+inline bool threaded(std::int64_t n, std::int64_t min = parallel_min) {
+#ifdef _OPENMP
+    return n > min && omp_get_max_threads() > 1;
+#else
+    (void)n;
+    (void)min;
+    return false;
+#endif
+}
+
+/// f(a) for a in [0, n): on the OpenMP team if threaded(n, min), else serially.
+template <class F>
+void for_each_row(std::int64_t n, std::int64_t min, F&& f) {
+#ifdef _OPENMP
+    if (threaded(n, min)) {
+#pragma omp parallel for schedule(static)
+        for (std::int64_t a = 0; a < n; ++a)
+            f(a);
+        return;
+    }
+#endif
+    for (std::int64_t a = 0; a < n; ++a)
+        f(a);
+}
+
+/// The sum of f(a) over a in [0, n), like for_each_row (the order of the sum depends on the
+/// thread count: energies and rates only, never a force).
+template <class F>
+double sum_rows(std::int64_t n, std::int64_t min, F&& f) {
+    double sum = 0;
+#ifdef _OPENMP
+    if (threaded(n, min)) {
+#pragma omp parallel for schedule(static) reduction(+ : sum)
+        for (std::int64_t a = 0; a < n; ++a)
+            sum += f(a);
+        return sum;
+    }
+#endif
+    for (std::int64_t a = 0; a < n; ++a)
+        sum += f(a);
+    return sum;
+}
 
 struct State {
     std::size_t n = 0;
@@ -55,6 +110,15 @@ struct BondData {
     std::vector<double> omega;       ///< influence J(xi / delta) (state-based law; else empty)
     std::vector<double> stiff;       ///< PMB: beta times the bond's quadrature correction
     std::vector<std::uint8_t> alive; ///< 1 intact, 0 broken
+    // Per-bond constants of the kernels, precomputed from the above and the body's law
+    // (Solver::family_factors; recomputed whenever the rows change), so the bond loops do one
+    // sqrt and one division per bond:
+    std::vector<double> kb; ///< PMB: c stiff V_j / xi (force density = kb (l - xi) / l), N m-7
+    std::vector<double> wv; ///< LPS: omega beta V_j, m3
+    std::vector<double> lc; ///< length at which the bond breaks, xi (1 + s0) (inf: never), m
+    /// LPS work arrays: |x_j - x_i| and its inverse from the dilatation pass, reused by the force
+    /// pass (one sqrt and one division per bond for both passes).
+    std::vector<double> len, inv_len;
 };
 
 /// True if some node moved farther than `limit` (m) from where it was in `x_ref` (3 per node):
@@ -85,6 +149,13 @@ struct BodyLaw {
     /// LPS: theta / d (1 - m_intact / m) per node, 0 for a whole family (work array; see the
     /// LPS kernel in bond_forces.cpp)
     std::vector<double> q;
+    /// LPS per node: alpha mu / m_i and d kappa / m_i (constants), and the node's share of the
+    /// bond force, P_i = d kappa theta_i / m_i - alpha mu / m_i (theta_i / d + q_i) (work
+    /// array): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)).
+    std::vector<double> lps_a, lps_k, lps_p;
+    /// Compute the elastic and repulsion energies in the next force evaluation (observation
+    /// steps); the released (fracture) energy is always computed.
+    bool energy = true;
 };
 
 } // namespace pd::solver
