@@ -200,22 +200,34 @@ Solver::Solver(const model::Model& m, Domain* dom, std::vector<index_t> row_neig
 }
 
 StableDt Solver::stable_dt() const {
-    // solver/stability.hpp: omega_max^2 <= lambda_bonds (Lanczos on the bonds' stiffness) +
-    // lambda_contact (bound over the contacts that can form); stable for omega_max dt < 2.
+    // solver/stability.hpp: omega_max^2 from Lanczos on the bonds' stiffness, plus, when contact
+    // can act, on the bonds' stiffness with a diagonal dominating every contact that can form;
+    // stable for omega_max dt < 2.
     StableDt r;
     const auto spec = bond_spectrum(s_, b_, law_, *dom_);
-    const double lc = contact_->active() || walls_->active() ? contact_lambda_bound(m_, s_) : 0.0;
     r.pd = critical_dt(spec.lambda());
-    r.contact = critical_dt(lc);
-    r.limit = critical_dt(spec.lambda() + lc);
+    r.limit = r.pd;
+    r.lanczos_steps = spec.iterations;
+    if (contact_->active() || walls_->active()) {
+        r.contact = critical_dt(contact_lambda_bound(m_, s_));
+        const auto ground = contact_ground(m_, s_);
+        if (!ground.empty()) {
+            const auto both = bond_spectrum(s_, b_, law_, *dom_, &ground);
+            r.limit = std::min(r.pd, critical_dt(both.lambda()));
+            r.lanczos_steps += both.iterations;
+        }
+    } else {
+        r.contact = std::numeric_limits<double>::infinity();
+    }
     // Three significant digits, rounded down: the Lanczos sums differ in their last bits between
     // rank counts, the step must not.
     if (std::isfinite(r.limit) && r.limit > 0) {
         const double unit = std::pow(10.0, std::floor(std::log10(r.limit)) - 2);
         r.limit = std::floor(r.limit / unit * (1 + 1e-9)) * unit;
     }
-    r.lanczos_steps = spec.iterations;
-    r.governing = r.contact < r.pd ? "contact stiffness" : "peridynamic bonds";
+    r.governing = r.contact < r.pd         ? "contact stiffness"
+                  : r.limit < 0.995 * r.pd ? "bonds with contact"
+                                           : "peridynamic bonds";
     return r;
 }
 
