@@ -27,13 +27,11 @@ double hash_unit(std::uint64_t z) {
 /// length 3n; ghosts of x must be current).
 class BondOperator {
   public:
-    BondOperator(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
-                 const std::vector<double>* ground)
+    BondOperator(const State& s, const BondData& b, const BodyLaw& law, Domain& dom)
         : s_(s)
         , b_(b)
         , law_(law)
-        , dom_(dom)
-        , ground_(ground) {
+        , dom_(dom) {
         const std::size_t n = s.n;
         scale_.assign(n, 0.0);
         for (auto row : s.rows) {
@@ -180,9 +178,6 @@ class BondOperator {
                     f[2] += t * e[2];
                 }
             }
-            if (ground_ && scale_[i] > 0)
-                for (std::size_t c = 0; c < 3; ++c)
-                    f[c] -= (*ground_)[i] * w[3 * i + c];
             // Nodal force V_i f_i, scaled by D^-1/2; minus: K = -df/du is positive.
             const double sc = -vol[i] * scale_[i];
             for (std::size_t c = 0; c < 3; ++c)
@@ -206,7 +201,6 @@ class BondOperator {
     const BondData& b_;
     const BodyLaw& law_;
     Domain& dom_;
-    const std::vector<double>* ground_;
     std::vector<double> scale_; ///< 1 / sqrt(rho V), 0 for nodes that do not move
     std::vector<std::uint8_t> mask_;
     std::vector<double> g_, dth_, dq_, w_;
@@ -215,10 +209,9 @@ class BondOperator {
 } // namespace
 
 BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
-                           const std::vector<double>* ground, int max_iterations,
-                           double tolerance) {
+                           int max_iterations, double tolerance) {
     BondSpectrum r;
-    BondOperator A(s, b, law, dom, ground);
+    BondOperator A(s, b, law, dom);
     const std::size_t n3 = 3 * s.n;
     std::vector<double> q(n3, 0.0), q_prev(n3, 0.0), w(n3, 0.0);
     for (auto row : s.rows) {
@@ -340,72 +333,6 @@ double contact_lambda_bound(const model::Model& m, const State& s) {
         lambda = std::max(lambda, 2.0 * kn * nodes_in * v / rho);
     }
     return lambda;
-}
-
-std::vector<double> contact_ground(const model::Model& m, const State& s) {
-    std::vector<double> ground;
-    int ng = 0;
-    for (auto g : m.bodies.group)
-        ng = std::max(ng, g + 1);
-    for (const auto& w : m.walls)
-        ng = std::max(ng, w.group + 1);
-    const auto G = static_cast<std::size_t>(ng);
-    std::vector<int> bodies(G, 0), moving(G, 0), walls(G, 0);
-    std::vector<double> hmin(G, std::numeric_limits<double>::infinity()), vmax(G, 0.0);
-    for (std::size_t b = 0; b < m.bodies.num(); ++b) {
-        const auto g = static_cast<std::size_t>(m.bodies.group[b]);
-        ++bodies[g];
-        moving[g] += m.bodies.fixed[b] ? 0 : 1;
-        hmin[g] = std::min(hmin[g], m.bodies.mesh_size[b]);
-        for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i)
-            vmax[g] = std::max(vmax[g], s.vol[static_cast<std::size_t>(i)]);
-    }
-    for (const auto& w : m.walls)
-        ++walls[static_cast<std::size_t>(w.group)];
-    // Per group: the diagonal that dominates the contact stiffness of its nodes.
-    std::vector<double> pair_k(G, 0.0), wall_k(G, 0.0);
-    bool any = false;
-    for (const auto& p : m.contact) {
-        const double kn = contact_max_stiffness(p);
-        if (kn <= 0 || p.radius <= 0 || p.group_a >= ng || p.group_b >= ng)
-            continue;
-        const auto a = static_cast<std::size_t>(p.group_a), b = static_cast<std::size_t>(p.group_b);
-        const bool pair = a == b ? bodies[a] >= 2 && moving[a] >= 1
-                                 : bodies[a] >= 1 && bodies[b] >= 1 && moving[a] + moving[b] >= 1;
-        if (pair) {
-            const double h = std::min(hmin[a], hmin[b]);
-            const double v = std::max(vmax[a], vmax[b]);
-            if (!std::isfinite(h) || !(v > 0))
-                continue;
-            const double reach = m.dimension == 3 ? 4.0 / 3.0 * M_PI * std::pow(p.radius, 3)
-                                                  : M_PI * p.radius * p.radius;
-            const double k = 2.0 * kn * std::max(1.0, reach / std::pow(h, m.dimension)) * v;
-            pair_k[a] += k;
-            if (b != a)
-                pair_k[b] += k;
-            any = true;
-        }
-        // A wall is one mirror node of the node's own volume: Kn V_i on the diagonal.
-        if (walls[b] > 0 && moving[a] > 0) {
-            wall_k[a] += kn;
-            any = true;
-        }
-        if (walls[a] > 0 && moving[b] > 0 && a != b) {
-            wall_k[b] += kn;
-            any = true;
-        }
-    }
-    if (!any)
-        return ground;
-    ground.assign(s.n, 0.0);
-    for (std::size_t i = 0; i < s.n; ++i) {
-        if (!m.nodes.surface.empty() && !m.nodes.surface[i])
-            continue; // below the surface layer: in contact only past the interpenetration guard
-        const auto g =
-            static_cast<std::size_t>(m.bodies.group[static_cast<std::size_t>(s.body[i])]);
-        ground[i] = pair_k[g] + wall_k[g] * s.vol[i];
-    }
-    return ground;
 }
 
 double critical_dt(double lambda) {

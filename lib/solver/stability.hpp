@@ -3,11 +3,11 @@
 // stable for omega_max dt < 2): omega_max^2 is the largest eigenvalue of the mass-scaled tangent
 // stiffness M^-1/2 K M^-1/2. The bond part is computed, not bounded: a few tens of Lanczos
 // steps on the actual discrete operator of the bonds (PMB, LPS with its dilatation coupling,
-// RNP) at the current configuration. Contacts, which come and go, are bounded instead: a
-// diagonal spring at every surface-layer node that dominates the densest contact it can meet
-// (each law's largest stiffness from the contact law, solver/contact.hpp), added to the bond
-// operator of a second Lanczos run (contact_ground). Sharper than Weyl's lambda_bonds +
-// lambda_contact: the bonds of surface nodes are softer than those of the bulk.
+// RNP) at the current configuration. Contacts, which come and go, are bounded instead: each
+// contact law that can act gives the Gershgorin bound of the densest contact it can form (its
+// largest stiffness from the contact law, solver/contact.hpp). pd-solve takes the smaller step
+// of the two, not the strict bound of their sum (see Solver::stable_dt and the measured map in
+// workflows/accuracy/stability/RESULTS.md).
 #pragma once
 
 #include "model/model.hpp"
@@ -32,11 +32,8 @@ struct BondSpectrum {
 /// than the bond was, so the estimate holds as bonds break. The start vector depends on global
 /// node ids only, so every rank count takes the same steps. Collective over `dom`'s ranks.
 /// `law` needs the LPS weighted volumes (law.m) when a body is LPS.
-/// `ground` (force density per displacement, N m-4, per node; nullptr: none) adds a diagonal
-/// spring at every node: contact_ground().
 BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
-                           const std::vector<double>* ground = nullptr, int max_iterations = 80,
-                           double tolerance = 1e-4);
+                           int max_iterations = 80, double tolerance = 1e-4);
 
 /// Upper bound of the largest eigenvalue (s^-2) that contact can add, over every contact law of
 /// `m` that can act (two bodies of its groups, or a body and a wall, one of them moving): a node
@@ -44,15 +41,6 @@ BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law
 /// the densest nodal spacing of the two groups, each pair at the law's largest stiffness
 /// (contact_max_stiffness); Gershgorin (twice the row sum). 0 if no law can act.
 double contact_lambda_bound(const model::Model& m, const State& s);
-
-/// A diagonal that dominates every contact stiffness a sound run can meet (empty: no contact
-/// law can act). A contact pair spring k P (P the projection on its normal) between nodes i
-/// and j satisfies [[kP, -kP], [-kP, kP]] <= diag(2k, 2k) (Loewner order), so the stiffness of
-/// all contacts is at most 2 Kn sum_j V_j at each node; a rigid wall adds Kn V_i. Only nodes of
-/// the surface layer (model nodes.surface) get it: a contact with a deeper node is past the
-/// interpenetration guard. Partners are counted as for contact_lambda_bound.
-/// lambda_max(K_bonds + K_contact) <= lambda_max(K_bonds + diag(ground)): bond_spectrum with it.
-std::vector<double> contact_ground(const model::Model& m, const State& s);
 
 /// Time step limit 2 / sqrt(lambda) (s); infinity for lambda <= 0.
 double critical_dt(double lambda);

@@ -7,6 +7,7 @@
 # Usage: workflows/accuracy/stability/run.sh [BUILD_DIR]
 #   QUICK=1   a subset (k = 0.25, 0.8, 1.25, 2; no pack500), for CI or a first look
 #   WORK=DIR  where the solved files go (default: a temporary directory, removed)
+#   BIN=DIR   the pd-pack and pd-solve to map (default: BUILD_DIR/bin)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../../.." && pwd)"
@@ -21,7 +22,7 @@ if [ "${QUICK:-0}" = 1 ]; then
   out="$work/map_quick.json"
 fi
 rm -f "$out"
-"$py" "$here/stability_map.py" run --bin "$build/bin" --out "$out" --work "$work" "${args[@]}"
+"$py" "$here/stability_map.py" run --bin "${BIN:-$build/bin}" --out "$out" --work "$work" "${args[@]}"
 "$py" "$here/stability_map.py" report --after "$out" --before "$here/map_before.json" \
   --md "$here/RESULTS.md" --png "$here/stability_map.png"
 echo "wrote $here/RESULTS.md and $here/stability_map.png"
