@@ -236,6 +236,7 @@ def table(data, title):
              " | largest stable k | auto dt / E | auto stable | auto / largest stable |",
              "|---" * (len(ks) + 6) + "|"]
     for name, rec in data["scenes"].items():
+        best, k_auto, ok = summarise(rec)  # stamps the rows first
         cells = []
         for k in ks:
             row = rec["runs"].get("%g" % k)
