@@ -212,13 +212,13 @@ StableDt Solver::stable_dt() const {
     r.lanczos_steps = spec.iterations;
     r.contact = contact_->active() || walls_->active() ? critical_dt(contact_lambda_bound(m_, s_))
                                                        : std::numeric_limits<double>::infinity();
-    r.limit = std::min(r.pd, r.contact);
-    // Three significant digits, rounded down: the Lanczos sums differ in their last bits between
-    // rank counts, the step must not.
-    if (std::isfinite(r.limit) && r.limit > 0) {
-        const double unit = std::pow(10.0, std::floor(std::log10(r.limit)) - 2);
-        r.limit = std::floor(r.limit / unit * (1 + 1e-9)) * unit;
+    // The Lanczos value to three significant digits, rounded down: its sums differ in their
+    // last bits between rank counts, the step must not (the contact bound is exact everywhere).
+    if (std::isfinite(r.pd) && r.pd > 0) {
+        const double unit = std::pow(10.0, std::floor(std::log10(r.pd)) - 2);
+        r.pd = std::floor(r.pd / unit * (1 + 1e-9)) * unit;
     }
+    r.limit = std::min(r.pd, r.contact);
     r.governing = r.contact < r.pd         ? "contact stiffness"
                   : r.limit < 0.995 * r.pd ? "bonds with contact"
                                            : "peridynamic bonds";

@@ -20,9 +20,10 @@ namespace pd::solver {
 
 /// Stable time step estimate (s) and the limit that governs it (solver/stability.hpp).
 struct StableDt {
-    double pd = 0;         ///< bond limit 2 / sqrt(lambda_max) of the bonds' mass-scaled stiffness
+    double pd = 0;         ///< bond limit 2 / sqrt(lambda_max) of the bonds' mass-scaled stiffness,
+                           ///< 3 significant digits, rounded down
     double contact = 0;    ///< contact limit 2 / sqrt(lambda) of the densest contact that can form
-    double limit = 0;      ///< 2 / sqrt(lambda_bonds + lambda_contact), 3 significant digits down
+    double limit = 0;      ///< min(pd, contact)
     int lanczos_steps = 0; ///< steps the bond eigenvalue took
     std::string governing; ///< "peridynamic bonds" or "contact stiffness"
 };
