@@ -144,4 +144,31 @@ FileLock FileLock::acquire(const std::string& file) {
         fmt::format("{}: cannot take the lock {} (another tool keeps taking it)", file, lock));
 }
 
+SpaceReserve SpaceReserve::create(const std::string& file, std::uint64_t bytes) {
+    SpaceReserve r;
+    const std::string path = file + ".reserve";
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        if (errno == EACCES || errno == EROFS || errno == EPERM)
+            return r; // a directory we cannot write to: no reserve (HDF5 reports what fails)
+        throw InputError(fmt::format("{}: cannot set aside {} MB of disk space beside it ({}): "
+                                     "free some space first",
+                                     file, bytes >> 20, std::strerror(errno)));
+    }
+    r.path_ = path;
+    const int rc = ::posix_fallocate(fd, 0, static_cast<off_t>(bytes));
+    ::close(fd);
+    if (rc != 0)
+        throw InputError(fmt::format("{}: cannot set aside {} MB of disk space beside it ({}): "
+                                     "the run needs room for its frames; free some space first",
+                                     file, bytes >> 20, std::strerror(rc)));
+    return r;
+}
+
+void SpaceReserve::release() noexcept {
+    if (!path_.empty())
+        ::unlink(path_.c_str());
+    path_.clear();
+}
+
 } // namespace pd

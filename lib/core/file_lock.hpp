@@ -6,6 +6,7 @@
 // is stale and taken over; one from another host is refused with the command that removes it.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace pd {
@@ -33,6 +34,34 @@ class FileLock {
 
   private:
     std::string path_; ///< the lock file this object created (empty: none)
+};
+
+/// Disk space set aside beside a file being written (`<file>.reserve`, allocated with
+/// posix_fallocate): when a write fails because the disk is full, release() frees it so that HDF5
+/// can still flush its metadata and close the file consistently (a full disk otherwise leaves a
+/// file HDF5 cannot read, and a crash at exit). Released (removed) on destruction too.
+class SpaceReserve {
+  public:
+    SpaceReserve() = default;
+    /// Throws InputError (exit 2) naming the free space needed if `bytes` cannot be set aside.
+    static SpaceReserve create(const std::string& file, std::uint64_t bytes);
+    SpaceReserve(SpaceReserve&& o) noexcept
+        : path_(std::move(o.path_)) {
+        o.path_.clear();
+    }
+    SpaceReserve& operator=(SpaceReserve&& o) noexcept {
+        release();
+        path_ = std::move(o.path_);
+        o.path_.clear();
+        return *this;
+    }
+    SpaceReserve(const SpaceReserve&) = delete;
+    SpaceReserve& operator=(const SpaceReserve&) = delete;
+    ~SpaceReserve() { release(); }
+    void release() noexcept;
+
+  private:
+    std::string path_;
 };
 
 } // namespace pd

@@ -2,6 +2,7 @@
 #include "pipeline/solve.hpp"
 
 #include "core/errors.hpp"
+#include "core/file_lock.hpp"
 #include "core/timer.hpp"
 #include "h5/file.hpp"
 #include "partition/graph.hpp"
@@ -380,6 +381,11 @@ void solve(const SolveOptions& opt, Context& ctx) {
         h5::File f(file, h5::Mode::read_write);
         store::append_provenance(f, ctx.run, code);
     };
+    // 16 MB set aside beside the file (rank 0): freed when a write fails on a full disk, so the
+    // file still closes consistently with its last checkpoint (issue 13).
+    SpaceReserve reserve;
+    if (ctx.rank == 0)
+        reserve = SpaceReserve::create(opt.file, std::uint64_t{16} << 20);
     // Phase 2, rank 0 alone: prepare the file (metadata only, serial).
     ctx.errors_collective = false;
     if (ctx.rank == 0) {
@@ -680,6 +686,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
         nframes = frames.frames();
         f->close(); // checked: a write the disk refused (full) fails the run here, exit 2
     } catch (const std::exception& e) {
+        reserve.release(); // room for HDF5 to flush and close the file (full disk)
         ctx.errors_collective = agreed;
         if (par && !agreed) {
             ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));
