@@ -45,7 +45,7 @@ const char* const seed_scene = R"({
       "velocity": [0.5, 0] },
     { "shape": "disc", "radius": 1.0e-3, "center": [1.15e-3, 0], "material": "m1",
       "velocity": [-0.5, 0] } ],
-  "walls": [ { "name": "floor", "shape": "plane", "point": [0, -2e-3], "normal": [0, 1] } ],
+  "walls": [ { "name": "floor", "type": "plane", "point": [0, -2e-3], "normal": [0, 1] } ],
   "contact": { "radius_factor": 0.95, "stiffness": "auto" },
   "loading": { "gravity": [0, -10] },
   "solver": { "final_time": 1.0e-5, "dt": "auto", "output_interval": 2.0e-6 }

@@ -11,7 +11,10 @@ build="$(cd "$1" && pwd)"
 seconds="${2:-60}"
 here="$(cd "$(dirname "$0")" && pwd)"
 out="$build/fuzz-run"
-export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$here/../asan/ubsan.supp"
+# The suppression matches by source file: the reports must be symbolized (clang 16's symbolizer).
+sym=/usr/lib/llvm-16/bin/llvm-symbolizer
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$here/../asan/ubsan.supp:external_symbolizer_path=$sym"
+export ASAN_SYMBOLIZER_PATH="$sym"
 export ASAN_OPTIONS="detect_leaks=0"
 failed=0
 for t in fuzz_scene fuzz_file; do
