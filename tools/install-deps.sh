@@ -4,12 +4,16 @@
 # everything is there; runs `apt-get update` only when something is missing.
 # `install-deps.sh --slurm` also installs Slurm and munge (slurm-wlm: slurmctld, slurmd, sbatch)
 # for the single-node Slurm test of workflows/sweep (tests/slurm); the daemons are not started.
+# `install-deps.sh --fuzz` also installs clang 16 with its libFuzzer/sanitizer runtimes (`make fuzz`:
+# clang 14 cannot compile std::source_location of libstdc++ 12, clang 16 can).
 set -euo pipefail
 with_slurm=0
+with_fuzz=0
 for a in "$@"; do
   case "$a" in
     --slurm) with_slurm=1 ;;
-    *) echo "usage: $0 [--slurm]" >&2; exit 2 ;;
+    --fuzz) with_fuzz=1 ;;
+    *) echo "usage: $0 [--slurm] [--fuzz]" >&2; exit 2 ;;
   esac
 done
 packages=(
@@ -24,6 +28,9 @@ packages=(
 )
 if [ "$with_slurm" = 1 ]; then
   packages+=(slurm-wlm munge)
+fi
+if [ "$with_fuzz" = 1 ]; then
+  packages+=(clang-16 libclang-rt-16-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do

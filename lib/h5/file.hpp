@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/errors.hpp"
+#include "core/file_lock.hpp"
 
 #include <array>
 #include <cstdint>
@@ -41,6 +42,12 @@ class Handle {
     ~Handle();
     hid get() const { return id_; }
     bool valid() const { return id_ >= 0; }
+    /// Gives up ownership (the id is not closed by this Handle).
+    hid release() {
+        const hid i = id_;
+        id_ = -1;
+        return i;
+    }
 
   private:
     hid id_ = -1;
@@ -68,7 +75,11 @@ class File {
 
     const std::string& name() const { return name_; }
     bool parallel() const { return parallel_; }
+    /// Writes every buffer to disk; throws Error if HDF5 or the disk (ENOSPC, EIO) fails.
     void flush();
+    /// Flushes and closes, checked (the destructor closes too but cannot report a failure, e.g.
+    /// a full disk: call close() where the data matter). Collective under MPI-IO.
+    void close();
 
     // ---- structure
     bool exists(const std::string& path) const; ///< link exists (every parent too)
@@ -119,6 +130,13 @@ class File {
     void append(const std::string& path, std::span<const T> data, std::uint64_t rows);
     /// Shrinks or grows axis 0 of an extendible dataset to `rows`.
     void resize_rows(const std::string& path, std::uint64_t rows);
+    /// True unless `path` is a chunked dataset whose chunks are allocated late (on first write).
+    /// MPI-IO cannot extend and write those (HDF5 1.10: pwritev EINVAL, then a damaged file):
+    /// create_extendible allocates early; files written before pd-file 1.2.1 did not.
+    bool allocated_early(const std::string& path) const;
+    /// Rewrites the chunked dataset `path` (data, attributes, chunking, filters) with early
+    /// allocation, in blocks of rows. Serial files only (not under MPI-IO).
+    void reallocate_early(const std::string& path);
     /// Creates a dataset of shape `dims` (axis 0 indexes rows, e.g. nodes) and writes the rows
     /// of `runs` from `full`, which holds all rows (only those of `runs` are read).
     template <Element T>
@@ -163,6 +181,7 @@ class File {
     std::string name_;
     bool parallel_ = false;
     int rank_ = 0;
+    FileLock lock_; ///< pdgrain's lock (writers; rank 0 under MPI); released after id_ closes
     Handle id_;
     Handle xfer_; ///< dataset transfer plist (collective under MPI-IO)
 };

@@ -2,6 +2,7 @@
 #include "pipeline/pack.hpp"
 
 #include "core/errors.hpp"
+#include "core/file_lock.hpp"
 #include "h5/file.hpp"
 #include "pipeline/overrides.hpp"
 #include "pipeline/peridem_import.hpp"
@@ -131,6 +132,9 @@ void pack(const PackOptions& opt, Context& ctx) {
             throw InputError(fmt::format("{}: cannot write the scene", opt.write_scene));
         ctx.log.info("wrote the scene {}", opt.write_scene);
     }
+    // The output may be a file another tool is running on (an MPI pd-solve): refused before the
+    // work, and held until the new file is renamed into place (issue 13).
+    const FileLock output_lock = FileLock::acquire(opt.output);
     model::Model m = build_scene(text, source, ctx.log, opt.max_nodes);
     warn_sparse_families(m, ctx.log);
 

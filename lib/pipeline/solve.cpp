@@ -2,6 +2,7 @@
 #include "pipeline/solve.hpp"
 
 #include "core/errors.hpp"
+#include "core/file_lock.hpp"
 #include "core/timer.hpp"
 #include "h5/file.hpp"
 #include "partition/graph.hpp"
@@ -184,6 +185,9 @@ void check_options(const SolveOptions& opt) {
     if (!(std::isfinite(opt.energy_tolerance) && opt.energy_tolerance >= 0))
         throw InputError(fmt::format("--energy-tolerance {}: must be a finite fraction >= 0",
                                      opt.energy_tolerance));
+    if (!(opt.checkpoint_wall_seconds >= 0))
+        throw InputError(fmt::format("--checkpoint-every-wall {}: must be >= 0 (s)",
+                                     opt.checkpoint_wall_seconds));
     if (!(opt.progress_seconds >= 0))
         throw InputError(
             fmt::format("--progress-every {}: must be >= 0 (s)", opt.progress_seconds));
@@ -378,6 +382,11 @@ void solve(const SolveOptions& opt, Context& ctx) {
         h5::File f(file, h5::Mode::read_write);
         store::append_provenance(f, ctx.run, code);
     };
+    // 16 MB set aside beside the file (rank 0): freed when a write fails on a full disk, so the
+    // file still closes consistently with its last checkpoint (issue 13).
+    SpaceReserve reserve;
+    if (ctx.rank == 0)
+        reserve = SpaceReserve::create(opt.file, std::uint64_t{16} << 20);
     // Phase 2, rank 0 alone: prepare the file (metadata only, serial).
     ctx.errors_collective = false;
     if (ctx.rank == 0) {
@@ -495,6 +504,7 @@ void solve(const SolveOptions& opt, Context& ctx) {
             }
         }
         double next_report = wall_seconds() + opt.progress_seconds;
+        double last_ck_wall = wall_seconds();
         s.timers().add(s.timers().id("pd::setup"), wall_seconds() - wall0); // read, build, t = 0
         Timers& timers = s.timers();
         const int t_out = timers.id("pd::store::output");
@@ -632,21 +642,28 @@ void solve(const SolveOptions& opt, Context& ctx) {
             }
             // A stop request (SIGTERM, SIGUSR1): every rank stops after the same step. Serial runs
             // look at every step, MPI runs every stop_check_every steps (collective).
-            bool stop = false;
+            // The wall-time checkpoint (--checkpoint-every-wall) is decided with it, by rank 0's
+            // clock.
+            bool stop = false, wall_ck = false;
             if (n < last && (!par || n % stop_check_every == 0)) {
-                int sig = static_cast<int>(stop_signal);
+                int flags[2] = {static_cast<int>(stop_signal),
+                                ctx.rank == 0 && opt.checkpoint_wall_seconds > 0 &&
+                                    wall_seconds() - last_ck_wall >= opt.checkpoint_wall_seconds};
                 if (par)
-                    MPI_Allreduce(MPI_IN_PLACE, &sig, 1, MPI_INT, MPI_MAX, comm);
+                    MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_INT, MPI_MAX, comm);
+                const int sig = flags[0];
+                wall_ck = flags[1] != 0;
                 if (sig != 0) {
                     stop = true;
                     stopped_by = sig;
                     stopped_at = n;
                 }
             }
-            if (n % ckpt_every == 0 || n == last || stop) {
+            if (n % ckpt_every == 0 || n == last || stop || wall_ck) {
                 ScopedTimer t(timers, t_ck);
                 obs.flush();
                 checkpoint();
+                last_ck_wall = wall_seconds();
             }
             if (stop)
                 break;
@@ -670,7 +687,9 @@ void solve(const SolveOptions& opt, Context& ctx) {
         }
         obs.flush();
         nframes = frames.frames();
+        f->close(); // checked: a write the disk refused (full) fails the run here, exit 2
     } catch (const std::exception& e) {
+        reserve.release(); // room for HDF5 to flush and close the file (full disk)
         ctx.errors_collective = agreed;
         if (par && !agreed) {
             ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));

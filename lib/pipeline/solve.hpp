@@ -19,8 +19,12 @@ struct SolveOptions {
     std::int64_t max_steps = -1; ///< stop after this many steps (short runs, tests); -1: no limit
     bool max_steps_given = false;
     double progress_seconds = 10; ///< wall time between progress lines
-    bool rebalance = false;       ///< re-partition the grains at checkpoints (MPI)
-    int compress = 0;             ///< gzip level 1-9 of new frame datasets (0: none)
+    /// Default checkpoint policy (issue 13): also checkpoint when this much wall time (s) has
+    /// passed since the last checkpoint, besides the scene's checkpoint_interval and the clean
+    /// end or stop of the run. 0 = off (--checkpoint-every-wall).
+    double checkpoint_wall_seconds = 600;
+    bool rebalance = false; ///< re-partition the grains at checkpoints (MPI)
+    int compress = 0;       ///< gzip level 1-9 of new frame datasets (0: none)
     /// Energy balance guard: the run stops (exit 3) when KE + elastic + contact + dissipated -
     /// external work drifts from its t = 0 value by more than this fraction of the energy in
     /// play (the largest KE + elastic + contact + dissipated + |external work| seen). 0: off.

@@ -142,9 +142,15 @@ VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const s
         }
         const std::string name = fmt::format("{}_{:06d}.vtu", stem, k);
         const std::string path = (std::filesystem::path(out_dir) / name).string();
-        writer->SetFileName(path.c_str());
-        if (writer->Write() != 1)
-            throw InputError(fmt::format("{}: cannot write (VTK XML writer failed)", path));
+        // Written under a temporary name, renamed when complete (a killed or failing pd-post
+        // leaves no truncated frame under the real name).
+        const std::string tmp = path + ".tmp";
+        writer->SetFileName(tmp.c_str());
+        if (writer->Write() != 1 || std::rename(tmp.c_str(), path.c_str()) != 0) {
+            std::remove(tmp.c_str());
+            throw InputError(
+                fmt::format("{}: cannot write (VTK XML writer failed; disk full?)", path));
+        }
         listed.emplace_back(frames.time(k), name);
         if (progress)
             progress("vtu", k + 1, frames.num_frames());

@@ -309,7 +309,41 @@ std::vector<std::int32_t> read_reaction_bodies(const h5::File& f) {
     return f.read<std::int32_t>(p);
 }
 
+void allocate_for_parallel_append(h5::File& f) {
+    // The time series of /particles/nodes and /observables: each group's `value`, and the
+    // `step`/`time` of the group that owns them (the others hold hard links to those).
+    auto convert = [&](const std::string& root, const std::string& owner) {
+        if (!f.exists(root) || !f.exists(owner + "/step"))
+            return;
+        bool owner_converted = false;
+        for (const char* st : {"/step", "/time"})
+            if (f.exists(owner + st) && !f.allocated_early(owner + st)) {
+                f.reallocate_early(owner + st);
+                owner_converted = true;
+            }
+        for (const auto& g : f.list(root)) {
+            const std::string gp = root + "/" + g;
+            if (!f.is_group(gp))
+                continue;
+            if (f.exists(gp + "/value") && !f.is_group(gp + "/value") &&
+                !f.allocated_early(gp + "/value"))
+                f.reallocate_early(gp + "/value");
+            if (owner_converted && gp != owner)
+                for (const char* st : {"/step", "/time"})
+                    if (f.exists(gp + st)) {
+                        f.remove(gp + st);
+                        f.hard_link(owner + st, gp + st);
+                    }
+        }
+    };
+    convert(P, field_path("position"));
+    convert(O, O + "/" + observable_list().front().name);
+}
+
 void truncate_after(h5::File& f, std::int64_t step) {
+    // A run restarted under MPI-IO appends to these series: a serial run's file (pd-file before
+    // 1.2.1) has them allocated late, which MPI-IO cannot extend (issue 13).
+    allocate_for_parallel_append(f);
     auto cut = [&](const std::string& owner, const std::vector<std::string>& values) {
         if (!f.exists(owner + "/step"))
             return;

@@ -128,7 +128,12 @@ std::vector<std::int32_t> read_reaction_bodies(const h5::File& f);
 void write_particle_constants(h5::File& f, const std::vector<std::int32_t>& species,
                               const std::vector<double>& mass);
 
-/// Removes frames and observable rows with step > `step` (restart from a checkpoint).
+/// Removes frames and observable rows with step > `step` (restart from a checkpoint); first
+/// makes the series appendable under MPI-IO (allocate_for_parallel_append). Serial file only.
 void truncate_after(h5::File& f, std::int64_t step);
+
+/// Rewrites the frame and observable series that a serial run of pd-file < 1.2.1 created with
+/// late chunk allocation, which MPI-IO cannot extend (issue 13); no-op on newer files.
+void allocate_for_parallel_append(h5::File& f);
 
 } // namespace pd::store

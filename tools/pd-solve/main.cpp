@@ -35,6 +35,10 @@ int main(int argc, char** argv) {
                  "run on when a node is more than R_c + h/2 inside another grain (default: stop, "
                  "exit 3)");
     app.add_option("--progress-every", opt.progress_seconds, "seconds between progress lines");
+    app.add_option("--checkpoint-every-wall", opt.checkpoint_wall_seconds,
+                   "also checkpoint when this much wall time (s) has passed since the last "
+                   "checkpoint (default 600; 0 = only the scene's checkpoint_interval and the end)")
+        ->check(CLI::NonNegativeNumber);
     app.footer("On SIGTERM or SIGUSR1 (Slurm: before the wall-time limit, on pre-emption) pd-solve "
                "finishes the current step, writes a checkpoint, records exit status 75 in "
                "/provenance and exits with 75; continue with --restart (bit for bit).\n"
