@@ -151,7 +151,11 @@ def test_bad_peridem_deck(pd_pack, tmp_path, shared_dir):
     bad.write_text(deck.replace("File: mesh_cir_1_0.msh", "File: ./gone.msh"))
     r = run(pd_pack, "--from-peridem", bad, "-o", out)
     assert r.returncode == 2 and "Mesh.Zone_1.File" in r.stderr and "gone.msh" in r.stderr
+    # rotation is imported now (a rigid rotation condition), but needs [omega, x0, y0(, z0)]
     bad.write_text(deck.replace("Type: linear", "Type: rotation"))
+    r = run(pd_pack, "--from-peridem", bad, "-o", out)
+    assert r.returncode == 2 and "Displacement_BC.Set_2.Time_Function.Parameters" in r.stderr
+    bad.write_text(deck.replace("Type: linear", "Type: spline"))
     r = run(pd_pack, "--from-peridem", bad, "-o", out)
     assert r.returncode == 2 and "Displacement_BC.Set_2.Time_Function.Type" in r.stderr
     bad.write_text("Model: [unclosed\n")

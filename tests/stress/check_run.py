@@ -146,6 +146,10 @@ class Model:
             self.walls["motion_parameters"] = (w["motion_parameters"][()]
                                                if "motion_parameters" in w
                                                else np.zeros((nw, 4)))
+            # a wall with a start_time (two-stage runs) is absent before it, then moves by
+            # its time function of t - start_time (pd-file 1.3)
+            self.walls["start_time"] = (w["start_time"][()] if "start_time" in w
+                                        else np.zeros(nw))
         ld = f["loading"]
         self.gravity = ld["gravity"][()]
         self.viscous = float(ld["viscous_damping"][()]) if "viscous_damping" in ld else 0.0
@@ -249,7 +253,8 @@ def rotate(v, theta):
 
 def wall_distance(model, w, y, t):
     W = model.walls
-    T, _ = time_function(int(W["motion"][w]), W["motion_parameters"][w], t)
+    tw = t - W["start_time"][w]  # at rest at its t = 0 pose before its start_time
+    T = time_function(int(W["motion"][w]), W["motion_parameters"][w], tw)[0] if tw >= 0 else 0.0
     theta = W["angular_velocity"][w] * T
     centre = W["centre"][w] + W["velocity"][w] * T
     point = centre + rotate(W["point"][w] - W["centre"][w], theta)
@@ -341,6 +346,8 @@ def check_rigid_walls(model, fr):
         if not act.any():
             continue
         for k in range(fr.count):
+            if fr.time[k] < model.walls["start_time"][w]:
+                continue  # the wall is not there yet
             d = wall_distance(model, w, fr.pos[k][act], fr.time[k]) / (0.5 * hn[act])
             m = int(np.argmin(d))
             if d[m] < worst:
