@@ -30,7 +30,9 @@ void local(const Frame& f, const double* x, double& u, double& v) {
     v = rx * f.n[0] + ry * f.n[1];
 }
 
-bool cross(const double* a, const double* b, const double* c, const double* d) {
+} // namespace
+
+bool segments_cross(const double* a, const double* b, const double* c, const double* d) {
     auto orient = [](const double* p, const double* q, const double* r) {
         return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
     };
@@ -43,8 +45,6 @@ bool cross(const double* a, const double* b, const double* c, const double* d) {
            std::max(a[1], b[1]) >= std::min(c[1], d[1]) &&
            std::max(c[1], d[1]) >= std::min(a[1], b[1]);
 }
-
-} // namespace
 
 bool slot_contains(const Slot& s, const double* x) {
     if (!(s.width > 0))
@@ -66,7 +66,7 @@ double slot_distance(const Slot& s, const double* x) {
 
 bool slot_cuts(const Slot& s, const double* a, const double* b) {
     if (!(s.width > 0))
-        return cross(a, b, s.p0.data(), s.p1.data());
+        return segments_cross(a, b, s.p0.data(), s.p1.data());
     const Frame f = frame(s);
     double ua, va, ub, vb;
     local(f, a, ua, va);

@@ -20,6 +20,10 @@ struct Slot {
     double width = 0;                  ///< m, full width across the centre line; 0 = a cut
 };
 
+/// Do the segments ab and cd cross in the xy plane? Touching counts. (Pre-cracks and width-0
+/// slots.)
+bool segments_cross(const double* a, const double* b, const double* c, const double* d);
+
 /// True if x lies strictly inside the slot (|across| < width/2, 0 < along < length); never
 /// for width 0.
 bool slot_contains(const Slot& s, const double* x);

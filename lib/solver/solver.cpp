@@ -7,6 +7,7 @@
 #include "model/pmb.hpp"
 #include "model/quadrature.hpp"
 #include "model/rnp.hpp"
+#include "model/slots.hpp"
 #include "solver/bond_forces.hpp"
 #include "solver/stability.hpp"
 
@@ -43,21 +44,6 @@ void put_rows(const std::vector<T>& from, const std::vector<offset_t>& local,
     for (std::size_t a = 0; a < rows.size(); ++a)
         std::copy(from.begin() + local[a], from.begin() + local[a + 1],
                   to.begin() + whole[static_cast<std::size_t>(rows[a])]);
-}
-
-/// Do the segments ab and cd cross (in the xy plane)? Touching counts.
-bool segments_cross(const double* a, const double* b, const double* c, const double* d) {
-    auto orient = [](const double* p, const double* q, const double* r) {
-        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
-    };
-    const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
-                 o4 = orient(c, d, b);
-    return ((o1 > 0) != (o2 > 0) || o1 == 0 || o2 == 0) &&
-           ((o3 > 0) != (o4 > 0) || o3 == 0 || o4 == 0) &&
-           std::max(a[0], b[0]) >= std::min(c[0], d[0]) &&
-           std::max(c[0], d[0]) >= std::min(a[0], b[0]) &&
-           std::max(a[1], b[1]) >= std::min(c[1], d[1]) &&
-           std::max(c[1], d[1]) >= std::min(a[1], b[1]);
 }
 
 } // namespace
@@ -554,7 +540,7 @@ void Solver::break_precracks() {
                 const auto kk = static_cast<std::size_t>(k);
                 const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
                 if (b_.alive[kk] &&
-                    segments_cross(&s_.x0[3 * i], &s_.x0[3 * j], c.p0.data(), c.p1.data())) {
+                    model::segments_cross(&s_.x0[3 * i], &s_.x0[3 * j], c.p0.data(), c.p1.data())) {
                     b_.alive[kk] = 0;
                     ++precracked_;
                 }
