@@ -342,7 +342,15 @@ void solve(const SolveOptions& opt, Context& ctx) {
     if (ck) {
         // Same dt; as many steps as reach final_time.
         total = static_cast<std::int64_t>(std::llround(m.solver.final_time / dt));
-        if (total <= ck->step)
+        if (total == ck->step) {
+            // A run stopped (signal, pre-emption) after its last step: already complete. Its
+            // requeued restart has nothing to do and changes nothing.
+            ctx.log.info("{}: the checkpoint is at the final time t = {:.6g} s: the run is "
+                         "complete, nothing to do",
+                         opt.file, ck->time);
+            return;
+        }
+        if (total < ck->step)
             throw InputError(fmt::format("{}: the checkpoint is at t = {:.6g} s, at or past the "
                                          "final time {:.6g} s (raise it with --final-time)",
                                          opt.file, ck->time, m.solver.final_time));

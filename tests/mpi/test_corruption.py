@@ -147,7 +147,7 @@ def test_second_tool_refused_while_an_mpi_run_holds_the_file(tmp_path, base):
     assert ok, why
     assert not lock.exists()
     # and the file continues
-    run(2, "pd-solve", f, "--restart", "--steps", 20, "-q")
+    run(2, "pd-solve", f, "--restart", "--final-time", 1.0, "--steps", 20, "-q")
 
 
 def test_stale_lock_taken_over_foreign_lock_refused(tmp_path, base):
