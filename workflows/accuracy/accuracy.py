@@ -16,6 +16,7 @@ import argparse
 import json
 import math
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -40,7 +41,7 @@ class Runner:
         self.out = out
         os.makedirs(out, exist_ok=True)
 
-    def run(self, name, scene, sets=(), solve_args=()):
+    def run(self, name, scene, sets=(), solve_args=(), solve=True):
         """pd-pack + pd-solve (1 thread). Returns (h5 path, pack CPU s, solve CPU s)."""
         sc = os.path.join(self.out, name + ".json")
         h5 = os.path.join(self.out, name + ".h5")
@@ -55,6 +56,8 @@ class Runner:
         t0 = cpu_children()
         subprocess.run(args, check=True, env=env)
         t1 = cpu_children()
+        if not solve:
+            return h5, t1 - t0, 0.0
         subprocess.run([os.path.join(self.bin, "pd-solve"), h5, "-q", *solve_args], check=True,
                        env=env)
         t2 = cpu_children()
@@ -163,6 +166,134 @@ def wave_error(h5, L):
     return c / C0 - 1, len(x0), h
 
 
+
+# Plate with a hole (Kirsch): a square plate 2B x 2B with a central hole of radius A_HOLE whose
+# outer band (one horizon wide) is held at Kirsch's displacement of an infinite plate under
+# uniaxial tension SIG_K along x; the field error is the relative L2 norm (volume-weighted) of
+# u - u_Kirsch over every free node, the hole's surface layer included.
+B_PLATE, A_HOLE, SIG_K, NU_K = 4e-3, 1e-3, 1e5, 1 / 3
+
+
+def kirsch(x, y):
+    """Kirsch's displacement (plane stress, tension SIG_K along x, hole radius A_HOLE)."""
+    import numpy as np
+    r, th = np.hypot(x, y), np.arctan2(y, x)
+    mu, ka = E / (2 * (1 + NU_K)), (3 - NU_K) / (1 + NU_K)
+    c2, s2, a2 = np.cos(2 * th), np.sin(2 * th), A_HOLE ** 2
+    ur = SIG_K / (4 * mu) * (r * ((ka - 1) / 2 + c2) + a2 / r * (1 + (1 + ka) * c2)
+                             - a2 * a2 / r ** 3 * c2)
+    ut = SIG_K / (4 * mu) * ((1 - ka) * a2 / r - r - a2 * a2 / r ** 3) * s2
+    return ur * np.cos(th) - ut * np.sin(th), ur * np.sin(th) + ut * np.cos(th)
+
+
+def hole_scene(h, law, x0=None):
+    """The holed plate; with the node positions x0 of a first pack, one displacement condition
+    per component and band node (a box of h/2 around it) holds Kirsch's displacement."""
+    conds = []
+    if x0 is not None:
+        import numpy as np
+        band = np.maximum(abs(x0[:, 0]), abs(x0[:, 1])) > B_PLATE - 3 * h - 1e-9
+        ux, uy = kirsch(x0[:, 0], x0[:, 1])
+        for i in np.nonzero(band)[0]:
+            box = {"min": [x0[i, 0] - h / 4, x0[i, 1] - h / 4],
+                   "max": [x0[i, 0] + h / 4, x0[i, 1] + h / 4]}
+            conds += [{"kind": "displacement", "region": box, "components": ["x"],
+                       "value": float(ux[i])},
+                      {"kind": "displacement", "region": box, "components": ["y"],
+                       "value": float(uy[i])}]
+    return {
+        "dimension": 2,
+        "materials": {"m": {"law": law, "density": RHO, "youngs_modulus": E,
+                            "poisson_ratio": NU_K}},
+        "discretization": {"mesh_size": h, "horizon_factor": 3},
+        "shapes": {"p": {"type": "difference", "mesh": "grid",
+                         "base": {"type": "rectangle", "size": [2 * B_PLATE, 2 * B_PLATE]},
+                         "minus": [{"type": "circle", "radius": A_HOLE}]}},
+        "particles": [{"shape": "p", "center": [0, 0], "material": "m"}],
+        "loading": {"viscous_damping": 2 * math.pi * C0 / (4 * B_PLATE), "conditions": conds},
+        "solver": {"final_time": 40 * 4 * B_PLATE / C0, "output_interval": 0,
+                   "fields": ["displacement"]},
+    }
+
+
+def hole_error(h5):
+    import h5py
+    import numpy as np
+    with h5py.File(h5, "r") as f:
+        x0 = f["nodes/reference_position"][:]
+        vol = f["nodes/volume"][:]
+        u = f["particles/nodes/displacement/value"][-1]
+        h = float(f["bodies/mesh_size"][0])
+    free = np.maximum(abs(x0[:, 0]), abs(x0[:, 1])) <= B_PLATE - 3 * h - 1e-9
+    ux, uy = kirsch(x0[:, 0], x0[:, 1])
+    e = ((u[free, 0] - ux[free]) ** 2 + (u[free, 1] - uy[free]) ** 2) @ vol[free]
+    n = (ux[free] ** 2 + uy[free] ** 2) @ vol[free]
+    return math.sqrt(e / n), len(vol), h
+
+
+# Contact duration of an elastic disc (2D, PMB, R = 1 mm, gmsh) hitting a rigid wall, no
+# damping, against Hertz. The 2D contact of a disc (plane stress, per unit thickness): approach
+# delta = F / (pi E) (2 ln(4 R / b) - 1), half-width b = sqrt(4 F R / (pi E)) (Johnson 1985,
+# 5.36); its duration comes from integrating m x'' = -F(x). 3D sphere: 2.868 (m^2 / (R E*^2
+# v))^(1/5) (t ~ v^-1/5); in 2D the log makes it t ~ v^-0.06...-0.08.
+E_HZ, RHO_HZ, R_HZ = 3.24e7, 1200.0, 1e-3
+HZ_CONTACT = {"restitution": 1.0, "stiffness_factor": 30}
+
+
+def hertz_duration(v, dim=2):
+    import numpy as np
+    if dim == 3:
+        m, es = RHO_HZ * 4 / 3 * math.pi * R_HZ ** 3, E_HZ / (1 - 0.25 ** 2)
+        return 2.868 * (m * m / (R_HZ * es * es * v)) ** 0.2
+    m = RHO_HZ * math.pi * R_HZ ** 2
+    F = np.logspace(-8, 6, 20000)
+    b = np.sqrt(4 * F * R_HZ / (math.pi * E_HZ))
+    d = F / (math.pi * E_HZ) * (2 * np.log(4 * R_HZ / b) - 1)
+    keep = np.concatenate([[True], np.diff(d) > 0])
+    F, d = F[keep], d[keep]
+    # Symplectic Euler at dt = 2e-4 sqrt(m / k), k the secant stiffness at mid-table.
+    x, u, t = 0.0, v, 0.0
+    dt = 2e-4 * math.sqrt(m * d[len(d) // 2] / F[len(F) // 2])
+    while True:
+        u -= np.interp(x, d, F) / m * dt if x > 0 else 0.0
+        x += u * dt
+        t += dt
+        if x < 0 and u < 0:
+            return t - x / u  # the crossing of x = 0 within the last step
+
+
+def hertz_scene(h, v):
+    tc = hertz_duration(v)
+    T = 1.5 * h / v + 3 * tc
+    return {
+        "dimension": 2,
+        "materials": {"m": {"law": "pmb", "density": RHO_HZ, "youngs_modulus": E_HZ}},
+        "discretization": {"mesh_size": h, "horizon_factor": 3},
+        "shapes": {"s": {"type": "circle", "radius": R_HZ}},
+        "particles": [{"shape": "s", "center": [0, R_HZ + 1.5 * h], "material": "m",
+                       "velocity": [0, -v]}],
+        "walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1]}],
+        "contact": dict(HZ_CONTACT),
+        "solver": {"final_time": T, "output_interval": T, "fields": ["velocity"]},
+    }
+
+
+def hertz_error(h5, v):
+    """Duration of the wall force (first to last step with a nonzero force) over Hertz's."""
+    import h5py
+    import numpy as np
+    with h5py.File(h5, "r") as f:
+        t = f["observables/broken_bonds/time"][:]
+        F = np.abs(f["observables/wall_force/value"][:, 0, 1])
+        n = len(f["nodes/volume"])
+        h = float(f["bodies/mesh_size"][0])
+    on = np.nonzero(F > 0)[0]
+    if len(on) == 0 or on[-1] + 1 >= len(t):
+        raise RuntimeError(f"{h5}: the contact did not end within the run")
+    tc = t[on[-1] + 1] - t[on[0]]
+    return tc / hertz_duration(v) - 1, n, h, tc
+
+
 def restitution_scene(h, wall, eps=0.8):
     if wall:
         with open(os.path.join(ROOT, "tests", "sweep", "disc_on_wall.json")) as fh:
@@ -229,6 +360,13 @@ PROBLEMS = {
     "plate_m": ("m-convergence: the plate (PMB) at a fixed horizon delta = 0.8 mm, m = delta / h = "
                 "2, 3, 4, 6 (converges to the nonlocal answer, whose surface layer is fixed)",
                 {"pmb": [4e-4, 8e-4 / 3, 2e-4, 8e-4 / 6]}),
+    "hole": ("Plate with a hole (2D, 8 x 8 mm, hole radius 1 mm, grid, m = 3; outer band held at "
+             "Kirsch's displacement): relative L2 error of the displacement field",
+             {"pmb": [4e-4, 2e-4, 1e-4], "lps": [4e-4, 2e-4, 1e-4]}),
+    "hertz": ("Contact duration of an elastic disc on a rigid wall (2D, PMB, R = 1 mm, gmsh, m = 3, "
+              "contact stiffness_factor 30, no damping) vs Hertz (2D), three impact speeds",
+              {"v = 1 m/s": [1e-4, 5e-5, 2.5e-5], "v = 2 m/s": [1e-4, 5e-5, 2.5e-5],
+               "v = 4 m/s": [1e-4, 5e-5, 2.5e-5]}),
     "restitution": ("Restitution eps = 0.8 (2D discs R = 1 mm, PMB, m = 3, contact radius 0.95 h: "
                     "at h = 0.05 mm the node lattices meet as rough surfaces, README Contact)",
                     {"two discs": [2e-4, 1e-4, 5e-5], "disc on wall": [2e-4, 1e-4, 5e-5]}),
@@ -260,7 +398,7 @@ PLACEHOLDERS = [
 
 
 def solve_level(runner, problem, series, h):
-    tag = f"{problem}_{series.replace(' ', '_')}_{h:.3g}"
+    tag = re.sub(r'[^A-Za-z0-9_.]+', '_', f"{problem}_{series}_{h:.3g}")
     if problem in ("plate", "plate_m"):
         h5, cp, cs = runner.run(tag, plate_scene(h, series, delta=8e-4 if problem == "plate_m"
                                                  else None))
@@ -273,6 +411,25 @@ def solve_level(runner, problem, series, h):
         h5, cp, cs = runner.run(tag, wave_scene(h, series, dim, L, W),
                                 solve_args=["--energy-tolerance", "1e6"])
         err, n, hh = wave_error(h5, L)
+    elif problem == "hole":
+        # A first pack gives the node positions for the band's per-node conditions.
+        h5, cp0, _ = runner.run(tag + "_nodes", hole_scene(h, series), solve=False)
+        import h5py
+        with h5py.File(h5, "r") as f:
+            x0 = f["nodes/reference_position"][:]
+        os.remove(h5)
+        # A suddenly held band: the external work of a jump in displacement is not defined.
+        h5, cp, cs = runner.run(tag, hole_scene(h, series, x0),
+                                solve_args=["--energy-tolerance", "1e6"])
+        cp += cp0
+        err, n, hh = hole_error(h5)
+    elif problem == "hertz":
+        v = float(series.split()[2])
+        h5, cp, cs = runner.run(tag, hertz_scene(h, v))
+        err, n, hh, tc = hertz_error(h5, v)
+        os.remove(h5)
+        return {"h": h, "nodes": int(n), "cpu_pack": cp, "cpu_solve": cs, "error": float(err),
+                "duration": tc, "hertz": hertz_duration(v)}
     else:
         from sweep import measure
         h5, cp, cs = runner.run(tag, restitution_scene(h, series == "disc on wall"))
@@ -299,6 +456,8 @@ def main():
                     help="only rewrite RESULTS.md and the PNGs from RESULTS/results.json")
     ap.add_argument("--set", action="append", default=[],
                     help="pd-pack --set for every run, e.g. solver.quadrature_calibration=false")
+    ap.add_argument("--merge", action="store_true",
+                    help="keep the other problems of RESULTS/results.json (rerun only --only)")
     a = ap.parse_args()
     out = a.out or os.path.join(a.build, "accuracy")
     before = None
@@ -341,6 +500,11 @@ def main():
         with open(os.path.join(out, "results.json"), "w") as fh:
             json.dump(results, fh, indent=1)
         return 1 if failures else 0
+    if a.merge and os.path.exists(os.path.join(a.results, "results.json")):
+        with open(os.path.join(a.results, "results.json")) as fh:
+            kept = json.load(fh)
+        kept.update(results)
+        results = {p: kept[p] for p in PROBLEMS if p in kept}
     write_results(results, a.results, before)
     return 0
 
