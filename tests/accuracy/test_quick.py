@@ -3,7 +3,6 @@
 wave-speed problems, solved with the tools, must show the error falling with cost at about the
 observed order, towards zero (the quadrature calibration: before it, the plate's error grew
 with refinement towards -4.3 %). Timing stays in the benchmark; about 20 s of CPU."""
-import math
 import os
 import sys
 
