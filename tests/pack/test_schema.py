@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: MIT
 """data-schema/scene.schema.json stays in step with what pd-pack accepts: (a) every example scene
 validates, (b) the key set of every object in the schema equals a key list of a check_keys call in
-lib/pipeline/scene.cpp (and the other way round), (c) an unknown key is refused by pd-pack with
-exit 2 naming the key and the closest valid key."""
+the scene parser (lib/pipeline/scene.cpp and lib/pipeline/scene/*.cpp, one file per section) and
+the other way round, (c) an unknown key is refused by pd-pack with exit 2 naming the key and the
+closest valid key."""
 
 import json
 import re
@@ -12,7 +13,8 @@ import pytest
 from conftest import REPO, run
 
 SCHEMA = REPO / "data-schema" / "scene.schema.json"
-SCENE_CPP = REPO / "lib" / "pipeline" / "scene.cpp"
+SCENE_CPP = [REPO / "lib" / "pipeline" / "scene.cpp",
+             *sorted((REPO / "lib" / "pipeline" / "scene").glob("*.cpp"))]
 EXAMPLES = sorted(REPO.glob("examples/*/scene*.json"))
 
 
@@ -64,8 +66,8 @@ def test_examples_validate(schema, scene):
 
 
 def cpp_key_sets():
-    """Key lists of every check_keys(...) call in scene.cpp, resolving the named vectors."""
-    src = SCENE_CPP.read_text()
+    """Key lists of every check_keys(...) call in the scene parser, resolving the named vectors."""
+    src = "\n".join(p.read_text() for p in SCENE_CPP)
     named = {m.group(1): re.findall(r'"([^"]*)"', m.group(2))
              for m in re.finditer(r"std::vector<std::string>\s+(\w+)\s*=\s*\{(.*?)\};", src, re.S)}
     # keys = shape_keys; keys.insert(keys.end(), {...})
@@ -107,8 +109,8 @@ def test_schema_keys_match_scene_cpp(schema):
     assert len(cpp) >= 15, cpp  # the parser found the calls
     sch = schema_key_sets(schema, set())
     fmt = lambda ss: sorted(sorted(s) for s in ss)
-    assert not (cpp - sch), f"accepted by scene.cpp, missing in the schema: {fmt(cpp - sch)}"
-    assert not (sch - cpp), f"in the schema, not accepted by scene.cpp: {fmt(sch - cpp)}"
+    assert not (cpp - sch), f"accepted by the scene parser, missing in the schema: {fmt(cpp - sch)}"
+    assert not (sch - cpp), f"in the schema, not accepted by the scene parser: {fmt(sch - cpp)}"
 
 
 @pytest.mark.parametrize("where,bad,good", [

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+// File: attributes (numbers, vectors, strings).
+#include "h5/detail.hpp"
+#include "h5/file.hpp"
+
+#include <hdf5.h>
+
+#include <cstring>
+
+namespace pd::h5 {
+
+using namespace detail;
+
+bool File::has_attr(const std::string& path, const std::string& name) const {
+    if (!exists(path))
+        return false;
+    htri_t r = H5Aexists_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT);
+    H5Eclear2(H5E_DEFAULT);
+    return r > 0;
+}
+
+namespace {
+void write_attr(hid_t obj, const std::string& name, hid_t type, hid_t space, const void* buf,
+                const std::function<void(const std::string&)>& fail) {
+    if (H5Aexists(obj, name.c_str()) > 0)
+        H5Adelete(obj, name.c_str());
+    Handle a(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT));
+    if (!a.valid() || H5Awrite(a.get(), type, buf) < 0)
+        fail("cannot write attribute " + name);
+}
+} // namespace
+
+template <Element T>
+void File::set_attr(const std::string& path, const std::string& name, T value) {
+    Handle o = open_object(path);
+    Handle space(H5Screate(H5S_SCALAR));
+    write_attr(o.get(), name, native<T>(), space.get(), &value,
+               [&](const std::string& w) { fail(path, w); });
+}
+
+template <Element T>
+void File::set_attr(const std::string& path, const std::string& name, const std::vector<T>& v) {
+    Handle o = open_object(path);
+    hsize_t n = v.size();
+    Handle space(H5Screate_simple(1, &n, nullptr));
+    write_attr(o.get(), name, native<T>(), space.get(), v.data(),
+               [&](const std::string& w) { fail(path, w); });
+}
+
+void File::set_attr(const std::string& path, const std::string& name, const std::string& value) {
+    Handle o = open_object(path);
+    Handle t = vlen_string_type();
+    Handle space(H5Screate(H5S_SCALAR));
+    const char* p = value.c_str();
+    write_attr(o.get(), name, t.get(), space.get(), &p,
+               [&](const std::string& w) { fail(path, w); });
+}
+
+void File::set_attr(const std::string& path, const std::string& name,
+                    const std::vector<std::string>& value) {
+    Handle o = open_object(path);
+    Handle t = vlen_string_type();
+    hsize_t n = value.size();
+    Handle space(H5Screate_simple(1, &n, nullptr));
+    std::vector<const char*> p;
+    for (auto& s : value)
+        p.push_back(s.c_str());
+    write_attr(o.get(), name, t.get(), space.get(), p.data(),
+               [&](const std::string& w) { fail(path, w); });
+}
+
+template <Element T>
+std::vector<T> File::attr_vector(const std::string& path, const std::string& name) const {
+    if (!has_attr(path, name))
+        throw Error(name_, path, "missing attribute '" + name + "'");
+    Handle a(H5Aopen_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT));
+    Handle s(H5Aget_space(a.get()));
+    hssize_t n = H5Sget_simple_extent_npoints(s.get());
+    Handle ft(H5Aget_type(a.get()));
+    if (H5Tget_class(ft.get()) == H5T_STRING)
+        throw Error(name_, path, "attribute '" + name + "' holds a string, expected numbers");
+    std::vector<T> v(static_cast<std::size_t>(n));
+    if (H5Aread(a.get(), native<T>(), v.data()) < 0)
+        fail(path, "cannot read attribute " + name);
+    return v;
+}
+
+template <Element T>
+T File::attr(const std::string& path, const std::string& name) const {
+    auto v = attr_vector<T>(path, name);
+    if (v.size() != 1)
+        throw Error(name_, path, "attribute '" + name + "' is not a scalar");
+    return v[0];
+}
+
+std::string File::attr_string(const std::string& path, const std::string& name) const {
+    if (!has_attr(path, name))
+        throw Error(name_, path, "missing attribute '" + name + "'");
+    Handle a(H5Aopen_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT));
+    Handle ft(H5Aget_type(a.get()));
+    if (H5Tget_class(ft.get()) != H5T_STRING)
+        throw Error(name_, path, "attribute '" + name + "' is not a string");
+    {
+        Handle sp(H5Aget_space(a.get()));
+        if (H5Sget_simple_extent_npoints(sp.get()) != 1)
+            throw Error(name_, path, "attribute '" + name + "' is an array, expected one string");
+    }
+    if (H5Tis_variable_str(ft.get()) > 0) {
+        Handle t = vlen_string_type();
+        char* p = nullptr;
+        if (H5Aread(a.get(), t.get(), &p) < 0)
+            fail(path, "cannot read attribute " + name);
+        std::string s = p ? p : "";
+        H5free_memory(p);
+        return s;
+    }
+    std::string s(H5Tget_size(ft.get()), '\0');
+    if (H5Aread(a.get(), ft.get(), s.data()) < 0)
+        fail(path, "cannot read attribute " + name);
+    s.resize(std::strlen(s.c_str()));
+    return s;
+}
+
+std::vector<std::string> File::attr_names(const std::string& path) const {
+    Handle o = open_object(path);
+    H5O_info_t info;
+    H5Oget_info(o.get(), &info);
+    std::vector<std::string> names;
+    for (hsize_t i = 0; i < info.num_attrs; ++i) {
+        Handle a(
+            H5Aopen_by_idx(o.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT));
+        ssize_t n = H5Aget_name(a.get(), 0, nullptr);
+        std::string s(static_cast<std::size_t>(n), '\0');
+        H5Aget_name(a.get(), s.size() + 1, s.data());
+        names.push_back(s);
+    }
+    return names;
+}
+
+#define PD_H5_INSTANTIATE(T)                                                                       \
+    template void File::set_attr<T>(const std::string&, const std::string&, T);                    \
+    template void File::set_attr<T>(const std::string&, const std::string&,                        \
+                                    const std::vector<T>&);                                        \
+    template std::vector<T> File::attr_vector<T>(const std::string&, const std::string&) const;    \
+    template T File::attr<T>(const std::string&, const std::string&) const;
+
+PD_H5_INSTANTIATE(double)
+PD_H5_INSTANTIATE(float)
+PD_H5_INSTANTIATE(std::int32_t)
+PD_H5_INSTANTIATE(std::int64_t)
+PD_H5_INSTANTIATE(std::uint8_t)
+PD_H5_INSTANTIATE(std::uint64_t)
+
+} // namespace pd::h5

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// HDF5 types and extents of C++ values (internal to lib/h5/*.cpp).
+#pragma once
+
+#include "h5/file.hpp"
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <functional>
+#include <numeric>
+#include <type_traits>
+#include <vector>
+
+namespace pd::h5::detail {
+
+template <class T>
+hid_t native() {
+    if constexpr (std::is_same_v<T, double>)
+        return H5T_NATIVE_DOUBLE;
+    else if constexpr (std::is_same_v<T, float>)
+        return H5T_NATIVE_FLOAT;
+    else if constexpr (std::is_same_v<T, std::int32_t>)
+        return H5T_NATIVE_INT32;
+    else if constexpr (std::is_same_v<T, std::int64_t>)
+        return H5T_NATIVE_INT64;
+    else if constexpr (std::is_same_v<T, std::uint8_t>)
+        return H5T_NATIVE_UINT8;
+    else
+        return H5T_NATIVE_UINT64;
+}
+
+inline std::vector<hsize_t> to_h(const dims_t& d) {
+    return {d.begin(), d.end()};
+}
+
+inline std::uint64_t product(const dims_t& d) {
+    return std::accumulate(d.begin(), d.end(), std::uint64_t{1}, std::multiplies<>{});
+}
+
+inline Handle vlen_string_type() {
+    Handle t(H5Tcopy(H5T_C_S1));
+    H5Tset_size(t.get(), H5T_VARIABLE);
+    H5Tset_cset(t.get(), H5T_CSET_UTF8);
+    return t;
+}
+
+} // namespace pd::h5::detail

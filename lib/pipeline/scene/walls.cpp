@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+#include "core/errors.hpp"
+#include "pipeline/scene/build.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pd::pipeline::scene {
+
+namespace {
+
+/// walls[k].
+model::Wall parse_wall(const json& wj, std::size_t k, const model::Model& m) {
+    const std::string w = fmt::format("walls[{}]", k);
+    check_keys(wj, w,
+               {"name", "type", "point", "normal", "center", "radius", "velocity",
+                "angular_velocity", "rotation_center", "group", "time_function", "time_parameters",
+                "start_time"});
+    model::Wall wall;
+    wall.name = text(wj, w, "name", fmt::format("wall_{}", k));
+    const auto type = text(wj, w, "type", "plane", {"plane", "circle_inside", "circle_outside"});
+    wall.shape = type == "plane"           ? model::WallShape::plane
+                 : type == "circle_inside" ? model::WallShape::circle_inside
+                                           : model::WallShape::circle_outside;
+    if (wall.shape == model::WallShape::plane) {
+        wall.point = vec(wj, w, "point", m.dimension, {0, 0, 0}, true);
+        wall.normal = vec(wj, w, "normal", m.dimension, {0, 0, 0}, true);
+        const double nn = std::hypot(wall.normal[0], wall.normal[1], wall.normal[2]);
+        if (!(nn > 0))
+            throw ConfigError(w + ".normal", "must be a non-zero vector");
+        for (double& c : wall.normal)
+            c /= nn;
+    } else {
+        wall.point = vec(wj, w, "center", m.dimension, {0, 0, 0}, true);
+        wall.radius = positive(wj, w, "radius", 0, true);
+    }
+    wall.velocity = vec(wj, w, "velocity", m.dimension, {0, 0, 0});
+    if (wj.contains("angular_velocity")) {
+        if (m.dimension == 2)
+            wall.angular_velocity = {0, 0, number(wj, w, "angular_velocity", 0)};
+        else
+            wall.angular_velocity = vec(wj, w, "angular_velocity", 3, {0, 0, 0});
+    }
+    wall.centre = vec(wj, w, "rotation_center", m.dimension, wall.point);
+    // Motion in time: displacement velocity T(t), angle angular_velocity T(t).
+    const auto tf = text(wj, w, "time_function", "linear",
+                         {"linear", "quadratic", "sine", "linear_step", "linear_slow_fast"});
+    wall.motion = tf == "linear"        ? model::TimeFn::linear
+                  : tf == "quadratic"   ? model::TimeFn::quadratic
+                  : tf == "sine"        ? model::TimeFn::sine
+                  : tf == "linear_step" ? model::TimeFn::linear_step
+                                        : model::TimeFn::linear_slow_fast;
+    if (wj.contains("time_parameters")) {
+        const auto& tp = wj["time_parameters"];
+        if (!tp.is_array() || tp.empty() || tp.size() > 3)
+            throw ConfigError(w + ".time_parameters", "expected [p1, p2, p3]");
+        for (std::size_t q = 0; q < tp.size(); ++q)
+            wall.motion_params[q + 1] = tp[q].get<double>();
+    }
+    // Two-stage runs: the wall enters at start_time (absent before), then moves.
+    wall.start_time = number(wj, w, "start_time", 0.0);
+    if (!(wall.start_time >= 0) || !std::isfinite(wall.start_time))
+        throw ConfigError(w + ".start_time", "must be a finite time >= 0 (s)");
+    wall.group = static_cast<std::int32_t>(number(wj, w, "group", -1));
+    return wall;
+}
+
+} // namespace
+
+/// Signed distance of x from a wall at t = 0 (positive on the free side).
+double wall_distance(const model::Wall& w, const double* x) {
+    if (w.shape == model::WallShape::plane) {
+        double d = 0;
+        for (std::size_t q = 0; q < 3; ++q)
+            d += (x[q] - w.point[q]) * w.normal[q];
+        return d;
+    }
+    const double r = std::hypot(x[0] - w.point[0], x[1] - w.point[1], x[2] - w.point[2]);
+    return w.shape == model::WallShape::circle_inside ? w.radius - r : r - w.radius;
+}
+
+void parse_walls(SceneBuild& s) {
+    const json& root = s.root;
+    model::Model& m = s.m;
+    const auto& B = m.bodies;
+    const auto& inst = s.inst;
+    // Rigid analytic walls.
+    std::int32_t max_group = *std::max_element(B.group.begin(), B.group.end());
+    if (root.contains("walls")) {
+        if (!root["walls"].is_array())
+            throw ConfigError("walls", "expected a list of walls");
+        for (std::size_t k = 0; k < root["walls"].size(); ++k) {
+            const json& wj = root["walls"][k];
+            m.walls.push_back(parse_wall(wj, k, m));
+        }
+        // Walls without a group share one group after the particles'.
+        for (auto& wall : m.walls)
+            if (wall.group < 0)
+                wall.group = max_group + 1;
+        // Every node must start on the free side of every wall present at t = 0 (a wall with a
+        // start_time enters later, where pd-solve's rigid-wall guard checks the grains).
+        for (std::size_t k = 0; k < m.walls.size(); ++k) {
+            const auto& wall = m.walls[k];
+            if (wall.start_time > 0)
+                continue;
+            for (std::size_t i = 0; i < m.nodes.num(); ++i) {
+                const double d = wall_distance(wall, &m.nodes.x0[3 * i]);
+                if (d < 0)
+                    throw ConfigError(
+                        fmt::format("{}, walls[{}]",
+                                    inst[static_cast<std::size_t>(m.nodes.body[i])].where, k),
+                        fmt::format("the grain crosses the wall (a node lies {:.4g} m behind it)",
+                                    -d));
+            }
+        }
+    }
+}
+
+void warn_close_to_walls(SceneBuild& s) {
+    const model::Model& m = s.m;
+    const Log& log = s.log;
+    // Grains that start within the contact radius of a wall are pushed off at t = 0.
+    for (std::size_t k = 0; k < m.walls.size(); ++k) {
+        const auto& wall = m.walls[k];
+        if (wall.start_time > 0)
+            continue; // enters later
+        std::size_t close = 0;
+        double rc = 0;
+        for (const auto& p : m.contact)
+            if (p.group_a == wall.group || p.group_b == wall.group)
+                rc = std::max(rc, p.radius);
+        for (std::size_t i = 0; i < m.nodes.num(); ++i)
+            close += wall_distance(wall, &m.nodes.x0[3 * i]) < rc;
+        if (close > 0)
+            log.warn("walls[{}]: {} nodes start within the contact radius {:.3g} m of the wall "
+                     "(they are pushed off at t = 0)",
+                     k, close, rc);
+    }
+}
+
+} // namespace pd::pipeline::scene
