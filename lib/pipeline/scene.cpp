@@ -9,6 +9,7 @@
 #include "mesh/shape_mesher.hpp"
 #include "model/pmb.hpp"
 #include "model/slots.hpp"
+#include "pipeline/resources.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -634,11 +635,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
         return std::max(1.0, size / std::pow(h, m.dimension));
     };
     auto too_many = [&](double estimate, const std::string& key, const std::string& what) {
-        if (!(estimate <= max_nodes))
-            throw ConfigError(key, fmt::format("{} is estimated at {:.3g} nodes, above the limit "
-                                               "{:.3g} (pd-pack --max-nodes): coarsen mesh_size, "
-                                               "or raise --max-nodes if the machine can hold it",
-                                               what, estimate, max_nodes));
+        check_node_budget(estimate, max_nodes, m.dimension, key, what); // pipeline/resources
     };
     auto common = [&](const json& p, const std::string& w, Instance& d) {
         d.velocity = vec(p, w, "velocity", m.dimension, {0, 0, 0});
@@ -751,7 +748,13 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             o.random_orientation =
                 text(p, w, "orientation", "random", {"random", "zero"}) == "random";
             geometry::PackStats st;
-            grains = geometry::random_pack(container, o, &st);
+            try {
+                grains = geometry::random_pack(container, o, &st);
+            } catch (const ConfigError&) {
+                throw;
+            } catch (const InputError& e) { // name the generator (a pack that cannot fit)
+                throw ConfigError(w, e.what());
+            }
             log.info("{}: packed {} grains (packing fraction {:.3f}, {} by relaxation)", w,
                      grains.size(), st.packing_fraction, st.relaxed);
         } else if (type == "lattice") {
@@ -1239,6 +1242,9 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     const json& ld = root.contains("loading") ? root["loading"] : empty;
     check_keys(ld, "loading", {"gravity", "viscous_damping", "conditions"});
     m.loading.gravity = vec(ld, "loading", "gravity", m.dimension, {0, 0, 0});
+    for (double g : m.loading.gravity)
+        if (!(std::fabs(g) <= 1e8)) // 1e7 g: beyond any centrifuge, a typo or an overflow
+            throw ConfigError("loading.gravity", fmt::format("{:g} m/s^2: above 1e8", g));
     m.loading.viscous_damping = number(ld, "loading", "viscous_damping", 0);
     if (m.loading.viscous_damping < 0)
         throw ConfigError("loading.viscous_damping", "must be >= 0");
@@ -1381,6 +1387,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                 "quadrature_calibration", "fields"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
+    if (!(S.final_time <= 1e6)) // 11 days of explicit dynamics: a typo or an overflow
+        throw ConfigError("solver.final_time", fmt::format("{:g} s: above 1e6 s", S.final_time));
     if (sv.contains("dt") && sv["dt"].is_string())
         text(sv, "solver", "dt", "auto", {"auto"});
     else
