@@ -139,13 +139,22 @@ void pack(const PackOptions& opt, Context& ctx) {
     warn_sparse_families(m, ctx.log);
 
     const std::string tmp = fmt::format("{}.tmp.{}", opt.output, ::getpid());
+    // 1 MB set aside, freed when a write fails (full disk) so that HDF5 can close the temporary
+    // file instead of crashing (SIGSEGV at close before).
+    SpaceReserve reserve = SpaceReserve::create(tmp, std::uint64_t{1} << 20);
     try {
         {
             h5::File f(tmp, h5::Mode::create_truncate);
-            store::write_model(f, m);
-            if (!ctx.run.overrides.empty())
-                f.write_string(store::path::parameters_overrides, ctx.run.overrides);
-            store::append_provenance(f, ctx.run, 0);
+            try {
+                store::write_model(f, m);
+                if (!ctx.run.overrides.empty())
+                    f.write_string(store::path::parameters_overrides, ctx.run.overrides);
+                store::append_provenance(f, ctx.run, 0);
+            } catch (...) {
+                reserve.release();
+                throw;
+            }
+            reserve.release();
         }
         std::filesystem::rename(tmp, opt.output);
     } catch (...) {
