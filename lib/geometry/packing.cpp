@@ -237,6 +237,23 @@ std::vector<Grain> random_pack(const Shape& container, const PackOptions& opt, P
         total += ball_measure(x.radius, dim);
     }
     const double requested = total / container.area_or_volume();
+    {
+        // Fail fast (issue 13): no arrangement of equal discs (spheres) is denser than the
+        // hexagonal (fcc) one, 0.9069 (0.7405); unequal radii can fill part of the gaps left,
+        // in proportion to their spread. Above that bound the relaxation ran for minutes before
+        // giving up.
+        double rmin = rmax;
+        for (const auto& x : g)
+            rmin = std::min(rmin, x.radius);
+        const double densest = dim == 3 ? 0.7405 : 0.9069;
+        const double bound = densest + (1 - densest) * (1 - rmin / rmax);
+        if (!(requested <= bound))
+            throw InputError(fmt::format(
+                "random_pack: {} grains (radius {:g}..{:g} m) need a packing fraction of {:.3f} "
+                "in {} (area or volume {:.4g}), above the {:.3f} that grains of these radii can "
+                "reach: fewer or smaller grains, or a larger container",
+                n, rmin, rmax, requested, container.name(), container.area_or_volume(), bound));
+    }
     const auto box = container.bounding_box();
     for (int i = 0; i < dim; ++i)
         if (box[i + 3] - box[i] < 2 * (rmax + opt.gap))

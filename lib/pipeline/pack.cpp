@@ -102,7 +102,7 @@ void pack(const PackOptions& opt, Context& ctx) {
                            {"--from-peridem deck", opt.from_peridem},
                            {"-o file", opt.output},
                            {"--write-scene file", opt.write_scene}});
-    if (!(opt.max_nodes >= 1))
+    if (opt.max_nodes_given && !(opt.max_nodes >= 1))
         throw InputError(fmt::format("--max-nodes {}: must be at least 1", opt.max_nodes));
     std::string text, source;
     if (!opt.from_peridem.empty()) {
@@ -135,17 +135,26 @@ void pack(const PackOptions& opt, Context& ctx) {
     // The output may be a file another tool is running on (an MPI pd-solve): refused before the
     // work, and held until the new file is renamed into place (issue 13).
     const FileLock output_lock = FileLock::acquire(opt.output);
-    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes);
+    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes_given ? opt.max_nodes : 0);
     warn_sparse_families(m, ctx.log);
 
     const std::string tmp = fmt::format("{}.tmp.{}", opt.output, ::getpid());
+    // 1 MB set aside, freed when a write fails (full disk) so that HDF5 can close the temporary
+    // file instead of crashing (SIGSEGV at close before).
+    SpaceReserve reserve = SpaceReserve::create(tmp, std::uint64_t{1} << 20);
     try {
         {
             h5::File f(tmp, h5::Mode::create_truncate);
-            store::write_model(f, m);
-            if (!ctx.run.overrides.empty())
-                f.write_string(store::path::parameters_overrides, ctx.run.overrides);
-            store::append_provenance(f, ctx.run, 0);
+            try {
+                store::write_model(f, m);
+                if (!ctx.run.overrides.empty())
+                    f.write_string(store::path::parameters_overrides, ctx.run.overrides);
+                store::append_provenance(f, ctx.run, 0);
+            } catch (...) {
+                reserve.release();
+                throw;
+            }
+            reserve.release();
         }
         std::filesystem::rename(tmp, opt.output);
     } catch (...) {

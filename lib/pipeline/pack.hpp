@@ -20,7 +20,9 @@ struct PackOptions {
     std::string preview;           ///< if set, a PNG of the scene (workflows/preview/preview.py)
     std::vector<std::string> sets; ///< --set PATH=VALUE scene overrides (pipeline/overrides.hpp)
     bool print_scene = false;      ///< print the resolved scene (plain JSON) to stdout, no file
-    double max_nodes = 2e7; ///< refuse scenes estimated above this many nodes (before meshing)
+    double max_nodes = 0; ///< refuse scenes estimated above this many nodes (before meshing);
+                          ///< 0: what fits in the available memory (pipeline/resources.hpp)
+    bool max_nodes_given = false; ///< --max-nodes was given (then it must be >= 1)
     CommonOptions common;
 };
 

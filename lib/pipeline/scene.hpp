@@ -14,9 +14,10 @@ namespace pd::pipeline {
 /// reference shape once (gmsh), places instances, nodal volumes, bonds, contact table.
 /// Throws ConfigError naming the key on bad input.
 /// `max_nodes`: the scene is refused (ConfigError) when its node estimate, made before meshing
-/// or packing, exceeds it (pd-pack --max-nodes).
+/// or packing, exceeds it (pd-pack --max-nodes; 0: what fits in the available memory,
+/// pipeline/resources.hpp).
 model::Model build_scene(const std::string& text, const std::string& source, const Log& log,
-                         double max_nodes = 2e7);
+                         double max_nodes = 0);
 
 /// Levenshtein distance (for "did you mean" suggestions).
 std::size_t edit_distance(const std::string& a, const std::string& b);

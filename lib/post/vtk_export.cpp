@@ -15,6 +15,7 @@
 #include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
@@ -32,6 +33,21 @@
 namespace pd::post {
 
 namespace {
+
+/// Writes `path` under a temporary name and renames it when complete, so that a killed or failing
+/// pd-post leaves no truncated frame under the real name. VTK's Write() returns 1 on a full disk
+/// (measured: a 0-byte .vtu), so its error code and the written size are checked as well.
+void write_vtu(vtkXMLUnstructuredGridWriter& writer, const std::string& path) {
+    const std::string tmp = path + ".tmp";
+    writer.SetFileName(tmp.c_str());
+    std::error_code ec;
+    const bool ok = writer.Write() == 1 && writer.GetErrorCode() == vtkErrorCode::NoError &&
+                    std::filesystem::file_size(tmp, ec) > 0 && !ec;
+    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw InputError(fmt::format("{}: cannot write (VTK XML writer failed; disk full?)", path));
+    }
+}
 
 /// One VTK_VERTEX cell per point: meshio rejects a .vtu without cells (environment notes B.5).
 void set_vertex_cells(vtkUnstructuredGrid* grid, vtkIdType n) {
@@ -142,15 +158,7 @@ VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const s
         }
         const std::string name = fmt::format("{}_{:06d}.vtu", stem, k);
         const std::string path = (std::filesystem::path(out_dir) / name).string();
-        // Written under a temporary name, renamed when complete (a killed or failing pd-post
-        // leaves no truncated frame under the real name).
-        const std::string tmp = path + ".tmp";
-        writer->SetFileName(tmp.c_str());
-        if (writer->Write() != 1 || std::rename(tmp.c_str(), path.c_str()) != 0) {
-            std::remove(tmp.c_str());
-            throw InputError(
-                fmt::format("{}: cannot write (VTK XML writer failed; disk full?)", path));
-        }
+        write_vtu(*writer, path);
         listed.emplace_back(frames.time(k), name);
         if (progress)
             progress("vtu", k + 1, frames.num_frames());
@@ -213,9 +221,7 @@ VtuSeries write_wall_series(const h5::File& f, const model::Model& m, const std:
         const std::string name = fmt::format("{}_{:06d}.vtu", wstem, k);
         const std::string path = (std::filesystem::path(out_dir) / name).string();
         writer->SetInputData(grid);
-        writer->SetFileName(path.c_str());
-        if (writer->Write() != 1)
-            throw InputError(fmt::format("{}: cannot write (VTK XML writer failed)", path));
+        write_vtu(*writer, path);
         listed.emplace_back(frames.time(k), name);
     }
     remove_stale_tail(out_dir, wstem, listed.size());

@@ -171,11 +171,15 @@ std::vector<double> FrameReader::read(const std::string& field, std::size_t k) c
     if (v.size() != n_ * static_cast<std::size_t>(components(field)))
         throw SchemaError(f_.name(), p, "has the wrong number of nodes");
     const auto c = static_cast<std::size_t>(components(field));
+    // Not finite, or beyond any physical value (1e100 in SI units): a damaged frame (4 KiB of
+    // random bytes make doubles of random exponent, a third of them above 1e100).
     for (std::size_t i = 0; i < v.size(); ++i)
-        if (!std::isfinite(v[i]))
+        if (!(std::fabs(v[i]) <= 1e100))
             throw SchemaError(f_.name(), p,
-                              fmt::format("frame {} (step {}): node {} is not finite", k,
-                                          k < steps_.size() ? steps_[k] : -1, i / c));
+                              fmt::format("frame {} (step {}): node {} is {} (damaged file?)", k,
+                                          k < steps_.size() ? steps_[k] : -1, i / c,
+                                          std::isfinite(v[i]) ? fmt::format("{:g}", v[i])
+                                                              : std::string("not finite")));
     return v;
 }
 

@@ -33,8 +33,10 @@ int main(int argc, char** argv) {
                                "as plain JSON to stdout and exit");
     out->excludes(print);
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
-    app.add_option("--max-nodes", opt.max_nodes,
-                   "refuse a scene estimated (before meshing) above this many nodes (2e7)");
+    auto* max_nodes = app.add_option("--max-nodes", opt.max_nodes,
+                                     "refuse a scene estimated (before meshing or packing) above "
+                                     "this many nodes (default: what fits in the memory "
+                                     "available, about 1.5 kB a node in 2D, 5 kB in 3D)");
     pd::add_common_flags(app, opt.common);
     try {
         app.parse(argc, argv);
@@ -42,6 +44,7 @@ int main(int argc, char** argv) {
             throw CLI::RequiredError("give a SCENE file or --from-peridem DECK");
         if (opt.output.empty() && !opt.print_scene)
             throw CLI::RequiredError("--output");
+        opt.max_nodes_given = max_nodes->count() > 0;
         if (opt.print_scene)
             opt.common.quiet = true; // stdout carries the JSON alone
     } catch (const CLI::ParseError& e) {

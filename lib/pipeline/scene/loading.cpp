@@ -2,6 +2,8 @@
 #include "core/errors.hpp"
 #include "pipeline/scene/build.hpp"
 
+#include <cmath>
+
 #include <algorithm>
 
 namespace pd::pipeline::scene {
@@ -145,6 +147,9 @@ void parse_loading(SceneBuild& s) {
     const json& ld = root.contains("loading") ? root["loading"] : empty;
     check_keys(ld, "loading", {"gravity", "viscous_damping", "conditions"});
     m.loading.gravity = vec(ld, "loading", "gravity", m.dimension, {0, 0, 0});
+    for (double g : m.loading.gravity)
+        if (!(std::fabs(g) <= 1e8)) // 1e7 g: beyond any centrifuge, a typo or an overflow
+            throw ConfigError("loading.gravity", fmt::format("{:g} m/s^2: above 1e8", g));
     m.loading.viscous_damping = number(ld, "loading", "viscous_damping", 0);
     if (m.loading.viscous_damping < 0)
         throw ConfigError("loading.viscous_damping", "must be >= 0");

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/errors.hpp"
 #include "geometry/packing.hpp"
+#include "pipeline/resources.hpp"
 #include "pipeline/scene/build.hpp"
 
 #include <algorithm>
@@ -108,11 +109,7 @@ class ParticleParser {
     }
 
     void too_many(double estimate, const std::string& key, const std::string& what) const {
-        if (!(estimate <= max_nodes))
-            throw ConfigError(key, fmt::format("{} is estimated at {:.3g} nodes, above the limit "
-                                               "{:.3g} (pd-pack --max-nodes): coarsen mesh_size, "
-                                               "or raise --max-nodes if the machine can hold it",
-                                               what, estimate, max_nodes));
+        check_node_budget(estimate, max_nodes, m.dimension, key, what); // pipeline/resources
     }
 
     void common(const json& p, const std::string& w, Instance& d) const {
@@ -200,7 +197,13 @@ class ParticleParser {
         o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
         o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) == "random";
         geometry::PackStats st;
-        grains = geometry::random_pack(container, o, &st);
+        try {
+            grains = geometry::random_pack(container, o, &st);
+        } catch (const ConfigError&) {
+            throw;
+        } catch (const InputError& e) { // name the generator (a pack that cannot fit)
+            throw ConfigError(w, e.what());
+        }
         log.info("{}: packed {} grains (packing fraction {:.3f}, {} by relaxation)", w,
                  grains.size(), st.packing_fraction, st.relaxed);
     }

@@ -17,6 +17,8 @@ void parse_solver(SceneBuild& s) {
                 "quadrature_calibration", "fields"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
+    if (!(S.final_time <= 1e6)) // 11 days of explicit dynamics: a typo or an overflow
+        throw ConfigError("solver.final_time", fmt::format("{:g} s: above 1e6 s", S.final_time));
     if (sv.contains("dt") && sv["dt"].is_string())
         text(sv, "solver", "dt", "auto", {"auto"});
     else

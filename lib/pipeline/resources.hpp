@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// Resource guard of pd-pack (issue 13): before anything is meshed or packed, a scene's node
+/// estimate is turned into bonds and memory and refused above a limit the user can raise.
+#include <string>
+
+namespace pd::pipeline {
+
+/// What a scene of `nodes` nodes needs: bonds at horizon = 3 h (pi 3^2 per node in 2D,
+/// 4/3 pi 3^3 in 3D) and the memory of pd-pack / pd-solve holding it.
+struct ResourceEstimate {
+    double nodes = 0, bonds = 0, bytes = 0;
+};
+ResourceEstimate estimate_resources(double nodes, int dimension);
+
+/// Bytes of memory the system can give now (/proc/meminfo MemAvailable, else physical memory);
+/// 0 when unknown.
+double available_memory();
+
+/// The default --max-nodes: the nodes whose estimate fits in the available memory (at least
+/// 1e5, so that a busy machine still packs small scenes; 2e7 when the memory is unknown).
+double default_max_nodes(int dimension);
+
+/// Throws ConfigError(`key`) naming `what`, the estimate (nodes, bonds, memory) and the limit
+/// when `nodes` exceeds `max_nodes` (<= 0: default_max_nodes(dimension)) or is not finite.
+void check_node_budget(double nodes, double max_nodes, int dimension, const std::string& key,
+                       const std::string& what);
+
+} // namespace pd::pipeline
