@@ -463,7 +463,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     model::Model m;
     m.scene_json = root.dump(2);
     m.title = text(root, "", "title", source);
-    m.dimension = static_cast<int>(number(root, "", "dimension", 2));
+    m.dimension = static_cast<int>(std::clamp(number(root, "", "dimension", 2), -1e9, 1e9));
     if (m.dimension != 2 && m.dimension != 3)
         throw ConfigError("dimension", fmt::format("{}: expected 2 or 3", m.dimension));
     const std::string base_dir = std::filesystem::path(source).parent_path().string();
@@ -647,7 +647,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     auto common = [&](const json& p, const std::string& w, Instance& d) {
         d.velocity = vec(p, w, "velocity", m.dimension, {0, 0, 0});
         d.fixed = boolean(p, w, "fixed", false);
-        d.group = static_cast<std::int32_t>(number(p, w, "group", 0));
+        d.group = static_cast<std::int32_t>(std::clamp(number(p, w, "group", 0), -1e9, 1e9));
         if (d.group < 0 || d.group > 1000)
             throw ConfigError(w + ".group", "must be in [0, 1000]");
         const std::string mat = text(p, w, "material", "");
@@ -751,6 +751,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
                          fmt::format("{} grains of {:.3g} nodes or more each", o.count, least));
             }
             o.gap = number(p, w, "gap", 0);
+            if (!(number(p, w, "seed", 1) >= 0 && number(p, w, "seed", 1) <= 0x1p53)) // cast: UB
+                throw ConfigError(w + ".seed", "must be a number from 0 to 2^53");
             o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
             o.random_orientation =
                 text(p, w, "orientation", "random", {"random", "zero"}) == "random";
@@ -780,6 +782,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             o.stagger = boolean(p, w, "stagger", false);
             o.jitter = number(p, w, "jitter", 0);
             o.gap = number(p, w, "gap", 0);
+            if (!(number(p, w, "seed", 1) >= 0 && number(p, w, "seed", 1) <= 0x1p53)) // cast: UB
+                throw ConfigError(w + ".seed", "must be a number from 0 to 2^53");
             o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
             o.random_orientation =
                 text(p, w, "orientation", "random", {"random", "zero"}) == "random";
@@ -1015,7 +1019,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             wall.start_time = number(wj, w, "start_time", 0.0);
             if (!(wall.start_time >= 0) || !std::isfinite(wall.start_time))
                 throw ConfigError(w + ".start_time", "must be a finite time >= 0 (s)");
-            wall.group = static_cast<std::int32_t>(number(wj, w, "group", -1));
+            wall.group =
+                static_cast<std::int32_t>(std::clamp(number(wj, w, "group", -1), -1e9, 1e9));
             m.walls.push_back(wall);
         }
         // Walls without a group share one group after the particles'.
@@ -1150,8 +1155,10 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
             check_keys(pj, w, with(law_keys, {"groups"}));
             if (!pj.contains("groups") || !pj["groups"].is_array() || pj["groups"].size() != 2)
                 throw ConfigError(w + ".groups", "expected two group numbers");
-            const auto ga = pj["groups"][0].get<std::int32_t>(),
-                       gb = pj["groups"][1].get<std::int32_t>();
+            const auto ga = static_cast<std::int32_t>(
+                           std::clamp(pj["groups"][0].get<double>(), -1e9, 1e9)),
+                       gb = static_cast<std::int32_t>(
+                           std::clamp(pj["groups"][1].get<double>(), -1e9, 1e9));
             bool found = false;
             for (auto& p : m.contact)
                 if ((p.group_a == ga && p.group_b == gb) || (p.group_a == gb && p.group_b == ga)) {

@@ -18,6 +18,12 @@ EXPECTED = {
     "rectangle_corner_of_one_number.json": ["shapes.r.corners", "[[x0, y0], [x1, y1]]"],
     # a vertex [x]: vertices[k][1] read past the end of the array
     "polygon_vertex_of_one_number.json": ["shapes.r.vertices", "[[x, y], ...]"],
+    # 1e300 cast to int32 (undefined; x86 gave -2147483648 in the message): clamped first
+    "dimension_1e300.json": ["dimension", "1000000000: expected 2 or 3"],
+    "particle_group_1e300.json": ["particles[1].group", "must be in [0, 1000]"],
+    "contact_pair_groups_1e300.json": ["contact.pairs[0].groups", "in group 1000000000 or 0"],
+    # a negative seed was cast to uint64 (undefined) and the lattice packed with exit 0
+    "lattice_seed_negative.json": ["particles[0].seed", "from 0 to 2^53"],
 }
 
 
@@ -33,13 +39,16 @@ def test_regression_refused(pd_pack, tmp_path, name):
     assert r.returncode == 2, (r.returncode, r.stderr)
     for w in EXPECTED[name]:
         assert w in r.stderr, (w, r.stderr)
+    assert "-2147483648" not in r.stderr, r.stderr
     assert not out.exists()
 
 
 def test_well_formed_corners_and_vertices_still_pack(pd_pack, tmp_path):
-    """The checks refuse only malformed lists: the same scenes with two numbers per point pack."""
+    """The checks refuse only malformed values: the same scenes with two numbers per point, or a
+    seed >= 0, pack."""
     for name, good in [("rectangle_corner_of_one_number.json", ("[[0], ", "[[0, 0], ")),
-                       ("polygon_vertex_of_one_number.json", ("[1e-3]", "[1e-3, 0]"))]:
+                       ("polygon_vertex_of_one_number.json", ("[1e-3]", "[1e-3, 0]")),
+                       ("lattice_seed_negative.json", ('"seed": -1', '"seed": 7'))]:
         text = (DIR / name).read_text()
         assert good[0] in text
         path = tmp_path / name
