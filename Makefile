@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
 .PHONY: all deps deps-test configure build test demo bench examples examples-run accuracy stability \
-	format format-check clean test-asan fuzz
+	format format-check clean test-asan fuzz ci
 
 all: build
 
@@ -79,7 +79,8 @@ test-asan: deps-test
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
 	@cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L '$(ASAN_LABELS)' -E '$(ASAN_EXCLUDE)'
 	@$(SAN_ENV) PD_BIN_DIR=$(CURDIR)/$(ASAN_BUILD)/bin PD_SOURCE_DIR=$(CURDIR) \
-	  /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/pack/test_bad_input.py
+	  /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/pack/test_bad_input.py \
+	  tests/pack/test_fuzz_regressions.py
 
 # fuzz: libFuzzer harnesses (tests/fuzz) built by clang 16 in build-fuzz, each run for
 # FUZZ_SECONDS on a copy of the stored corpus, after replaying the stored crash inputs.
@@ -97,6 +98,14 @@ fuzz:
 	  $(FUZZ_CMAKE_FLAGS) > $(FUZZ_BUILD)/configure.log 2>&1 || { cat $(FUZZ_BUILD)/configure.log; exit 1; }
 	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_scene fuzz_file
 	@bash tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
+# What CI runs (.ci/run): the format check, every test, the sanitizer subset, then each fuzz
+# harness for FUZZ_SECONDS. Three builds: build (Release), build-asan (g++), build-fuzz (clang 16).
+ci:
+	@if command -v clang-format-14 >/dev/null; then $(MAKE) --no-print-directory format-check; fi
+	@$(MAKE) --no-print-directory test
+	@$(MAKE) --no-print-directory test-asan
+	@$(MAKE) --no-print-directory fuzz
 
 SOURCES = $(shell find lib tools tests workflows -name '*.cpp' -o -name '*.hpp')
 

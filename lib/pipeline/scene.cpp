@@ -62,7 +62,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     model::Model m;
     m.scene_json = root.dump(2);
     m.title = text(root, "", "title", source);
-    m.dimension = static_cast<int>(number(root, "", "dimension", 2));
+    m.dimension = static_cast<int>(std::clamp(number(root, "", "dimension", 2), -1e9, 1e9));
     if (m.dimension != 2 && m.dimension != 3)
         throw ConfigError("dimension", fmt::format("{}: expected 2 or 3", m.dimension));
     const std::string base_dir = std::filesystem::path(source).parent_path().string();

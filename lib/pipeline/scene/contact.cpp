@@ -182,8 +182,10 @@ void parse_contact(SceneBuild& s) {
             check_keys(pj, w, with(law_keys, {"groups"}));
             if (!pj.contains("groups") || !pj["groups"].is_array() || pj["groups"].size() != 2)
                 throw ConfigError(w + ".groups", "expected two group numbers");
-            const auto ga = pj["groups"][0].get<std::int32_t>(),
-                       gb = pj["groups"][1].get<std::int32_t>();
+            const auto ga = static_cast<std::int32_t>(
+                           std::clamp(pj["groups"][0].get<double>(), -1e9, 1e9)),
+                       gb = static_cast<std::int32_t>(
+                           std::clamp(pj["groups"][1].get<double>(), -1e9, 1e9));
             bool found = false;
             for (auto& p : m.contact)
                 if ((p.group_a == ga && p.group_b == gb) || (p.group_a == gb && p.group_b == ga)) {

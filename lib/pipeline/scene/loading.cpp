@@ -2,9 +2,8 @@
 #include "core/errors.hpp"
 #include "pipeline/scene/build.hpp"
 
-#include <cmath>
-
 #include <algorithm>
+#include <cmath>
 
 namespace pd::pipeline::scene {
 

@@ -115,7 +115,7 @@ class ParticleParser {
     void common(const json& p, const std::string& w, Instance& d) const {
         d.velocity = vec(p, w, "velocity", m.dimension, {0, 0, 0});
         d.fixed = boolean(p, w, "fixed", false);
-        d.group = static_cast<std::int32_t>(number(p, w, "group", 0));
+        d.group = static_cast<std::int32_t>(std::clamp(number(p, w, "group", 0), -1e9, 1e9));
         if (d.group < 0 || d.group > 1000)
             throw ConfigError(w + ".group", "must be in [0, 1000]");
         const std::string mat = text(p, w, "material", "");
@@ -194,6 +194,8 @@ class ParticleParser {
                      fmt::format("{} grains of {:.3g} nodes or more each", o.count, least));
         }
         o.gap = number(p, w, "gap", 0);
+        if (!(number(p, w, "seed", 1) >= 0 && number(p, w, "seed", 1) <= 0x1p53)) // cast: UB
+            throw ConfigError(w + ".seed", "must be a number from 0 to 2^53");
         o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
         o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) == "random";
         geometry::PackStats st;
@@ -231,6 +233,8 @@ class ParticleParser {
         o.stagger = boolean(p, w, "stagger", false);
         o.jitter = number(p, w, "jitter", 0);
         o.gap = number(p, w, "gap", 0);
+        if (!(number(p, w, "seed", 1) >= 0 && number(p, w, "seed", 1) <= 0x1p53)) // cast: UB
+            throw ConfigError(w + ".seed", "must be a number from 0 to 2^53");
         o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
         o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) == "random";
         o.fractions = fractions_of(p, w, names);

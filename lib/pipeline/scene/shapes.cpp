@@ -56,7 +56,8 @@ std::optional<geometry::Shape> plane_shape(const std::string& type, const json& 
     if (type == "rectangle") {
         if (o.contains("corners")) {
             const auto& c = o["corners"];
-            if (!c.is_array() || c.size() != 2)
+            if (!c.is_array() || c.size() != 2 || !c[0].is_array() || c[0].size() != 2 ||
+                !c[1].is_array() || c[1].size() != 2) // c[0][1] of [[0], ...]: out of bounds
                 throw ConfigError(w + ".corners", "expected [[x0, y0], [x1, y1]]");
             return geometry::Shape::rectangle_corners(c[0][0].get<double>(), c[0][1].get<double>(),
                                                       c[1][0].get<double>(), c[1][1].get<double>());
@@ -71,8 +72,11 @@ std::optional<geometry::Shape> plane_shape(const std::string& type, const json& 
         if (!o.contains("vertices") || !o["vertices"].is_array())
             throw ConfigError(w + ".vertices", "expected [[x, y], ...]");
         std::vector<geometry::Vec2> v;
-        for (const auto& p : o["vertices"])
+        for (const auto& p : o["vertices"]) {
+            if (!p.is_array() || p.size() < 2) // p[1] of [x]: out of bounds
+                throw ConfigError(w + ".vertices", "expected [[x, y], ...]");
             v.push_back({p[0].get<double>(), p[1].get<double>()});
+        }
         return geometry::Shape::polygon(v);
     }
     return std::nullopt;

@@ -61,7 +61,7 @@ model::Wall parse_wall(const json& wj, std::size_t k, const model::Model& m) {
     wall.start_time = number(wj, w, "start_time", 0.0);
     if (!(wall.start_time >= 0) || !std::isfinite(wall.start_time))
         throw ConfigError(w + ".start_time", "must be a finite time >= 0 (s)");
-    wall.group = static_cast<std::int32_t>(number(wj, w, "group", -1));
+    wall.group = static_cast<std::int32_t>(std::clamp(number(wj, w, "group", -1), -1e9, 1e9));
     return wall;
 }
 
