@@ -193,7 +193,9 @@ TEST(Energy, ViscousDissipationEqualsTheKineticEnergyLost) {
       "solver": {"final_time": 1e-3}})",
                                    "t", quiet);
     solver::Solver s(m);
-    s.set_dt(0.5 * s.stable_dt().limit);
+    // The step this test was written for: 0.5 x the old row-sum estimate, which was 0.58 of the
+    // sharp estimate of this disc (issue 11); the dissipation's bookkeeping error is O(c dt).
+    s.set_dt(0.29 * s.stable_dt().limit);
     s.initialize();
     const auto o0 = s.observe();
     const int steps = static_cast<int>(5e-4 / s.dt());
