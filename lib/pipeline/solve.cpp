@@ -372,12 +372,13 @@ void solve(const SolveOptions& opt, Context& ctx) {
             ? std::max<std::int64_t>(1, std::llround(m.solver.checkpoint_interval / dt))
             : std::numeric_limits<std::int64_t>::max();
     const std::int64_t obs_every = std::max<std::int64_t>(1, m.solver.observe_every);
-    ctx.log.info("{}: {} bodies, {} walls, {} nodes, {} bonds; dt = {:.4g} s ({:.3g} x stability "
-                 "limit {:.4g} s, governed by {}), steps {} to {} (t = {:.4g} s), a frame every "
-                 "{} steps",
-                 opt.file, m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), dt,
-                 dt / est.limit, est.limit, est.governing, first, last,
-                 dt * static_cast<double>(last), out_every);
+    ctx.log.info(
+        "{}: {} bodies, {} walls, {} nodes, {} bonds; dt = {:.4g} s ({:.3g} x stability "
+        "limit {:.4g} s, governed by {}; bonds {:.4g} s, contact {:.4g} s), steps {} to {} "
+        "(t = {:.4g} s), a frame every {} steps",
+        opt.file, m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), dt, dt / est.limit,
+        est.limit, est.governing, est.pd, est.contact, first, last, dt * static_cast<double>(last),
+        out_every);
     if (!s.contact().active() && !s.walls().active())
         ctx.log.info("contact: off (no two bodies or walls with a contact law)");
 

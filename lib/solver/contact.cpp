@@ -368,4 +368,8 @@ std::int64_t ContactList::add_forces(State& s, double& energy,
     return add_forces_impl(s, energy, normal);
 }
 
+double contact_max_stiffness(const model::ContactPair& p) {
+    return p.stiffness; // linear law: f = Kn (R_c - R) V_j
+}
+
 } // namespace pd::solver

@@ -44,6 +44,12 @@ struct Penetration {
     std::int32_t inside = -1; ///< the grain it is inside
 };
 
+/// Largest normal stiffness the law `p` reaches, N m-7: the derivative of the pair's force
+/// density with respect to the overlap, per unit volume of the partner node, over every overlap
+/// the law allows. The stability estimate (solver/stability.hpp) bounds contact with it, so a
+/// law whose stiffness grows with penetration must return its largest value here.
+double contact_max_stiffness(const model::ContactPair& p);
+
 class ContactList {
   public:
     /// `skin` > 0. Bodies in groups with no contact law never interact.

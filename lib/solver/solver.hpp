@@ -18,11 +18,13 @@
 
 namespace pd::solver {
 
-/// Stable time step estimate (s) and the limit that governs it.
+/// Stable time step estimate (s) and the limit that governs it (solver/stability.hpp).
 struct StableDt {
-    double pd = 0; ///< bond limit, Silling & Askari 2005: min_i sqrt(2 rho / sum_j c beta V_j / xi)
-    double contact = 0;    ///< contact limit sqrt(2 rho / (Kn sum V_j)) over a contact disc of R_c
-    double limit = 0;      ///< min of the two
+    double pd = 0;         ///< bond limit 2 / sqrt(lambda_max) of the bonds' mass-scaled stiffness,
+                           ///< 3 significant digits, rounded down
+    double contact = 0;    ///< contact limit 2 / sqrt(lambda) of the densest contact that can form
+    double limit = 0;      ///< min(pd, contact)
+    int lanczos_steps = 0; ///< steps the bond eigenvalue took
     std::string governing; ///< "peridynamic bonds" or "contact stiffness"
 };
 

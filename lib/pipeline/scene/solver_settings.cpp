@@ -23,7 +23,7 @@ void parse_solver(SceneBuild& s) {
         text(sv, "solver", "dt", "auto", {"auto"});
     else
         S.dt = sv.contains("dt") ? positive(sv, "solver", "dt", 0) : 0.0;
-    S.dt_safety = positive(sv, "solver", "dt_safety", 0.7);
+    S.dt_safety = positive(sv, "solver", "dt_safety", 0.85);
     if (S.dt_safety > 1)
         throw ConfigError("solver.dt_safety", "must be in (0, 1]");
     S.output_interval = number(sv, "solver", "output_interval", 0);

@@ -123,7 +123,7 @@ TEST(Lps, ForceIsTheGradientOfTheEnergyWithBrokenBonds) {
 
 TEST(Energy, FractureClosesTheBalance) {
     // The pre-cracked plate, PMB and LPS: ~1500 bonds break in 1e-4 s. Without the fracture
-    // term the balance drifts by the fracture energy (7 % of the energy in play); counting the
+    // term the balance drifts by the fracture energy (4-9 % of the energy in play); counting the
     // released energy at the positions of the breaking step without the half-step work
     // correction leaves 2 %; with it, the drift is the integrator's (measured 0.1-0.2 %).
     for (const char* law : {"pmb", "lps"}) {
@@ -146,7 +146,11 @@ TEST(Energy, FractureClosesTheBalance) {
         }
         const auto o = s.observe();
         EXPECT_GT(o.broken_bonds, 1500) << law;
-        EXPECT_GT(o.fracture_energy, 0.05 * drift.scale) << law;
+        // The fracture term must be large against the drift bound below, so that the balance
+        // cannot close without it: 6x. (It was 5 % of the energy in play at the step of the
+        // row-sum estimate; the crack of this plate is irregular in dt: measured at 0.35, 0.5,
+        // 0.6, 0.7 x the Lanczos estimate, LPS 4.2, 5.1, 4.1, 4.4 %, PMB 7.6, 6.8, 8.8, 7.5 %.)
+        EXPECT_GT(o.fracture_energy, 0.03 * drift.scale) << law;
         EXPECT_LT(drift.relative(), 5e-3) << law;
     }
 }
@@ -193,7 +197,9 @@ TEST(Energy, ViscousDissipationEqualsTheKineticEnergyLost) {
       "solver": {"final_time": 1e-3}})",
                                    "t", quiet);
     solver::Solver s(m);
-    s.set_dt(0.5 * s.stable_dt().limit);
+    // The step this test was written for: 0.5 x the old row-sum estimate, which was 0.58 of the
+    // sharp estimate of this disc (issue 11); the dissipation's bookkeeping error is O(c dt).
+    s.set_dt(0.29 * s.stable_dt().limit);
     s.initialize();
     const auto o0 = s.observe();
     const int steps = static_cast<int>(5e-4 / s.dt());

@@ -1,0 +1,342 @@
+// SPDX-License-Identifier: MIT
+#include "solver/stability.hpp"
+
+#include "solver/contact.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace pd::solver {
+
+namespace {
+
+/// Deterministic pseudo-random number in [-1, 1) from an integer (splitmix64).
+double hash_unit(std::uint64_t z) {
+    z += 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1p-52 - 1.0;
+}
+
+/// The linearised bond operator y = D^-1/2 K D^-1/2 x over this rank's rows (3 per node, full
+/// length 3n; ghosts of x must be current).
+class BondOperator {
+  public:
+    BondOperator(const State& s, const BondData& b, const BodyLaw& law, Domain& dom)
+        : s_(s)
+        , b_(b)
+        , law_(law)
+        , dom_(dom) {
+        const std::size_t n = s.n;
+        scale_.assign(n, 0.0);
+        for (auto row : s.rows) {
+            const auto i = static_cast<std::size_t>(row);
+            if (s.moving[i] && s.rho[i] > 0 && s.vol[i] > 0)
+                scale_[i] = 1.0 / std::sqrt(s.rho[i] * s.vol[i]);
+        }
+        dom_.exchange({&scale_}, 1);
+        mask_.assign(3 * n, 0);
+        for (auto row : s.rows) {
+            const auto i = static_cast<std::size_t>(row);
+            for (int d = 0; d < law.dimension; ++d)
+                mask_[3 * i + static_cast<std::size_t>(d)] =
+                    scale_[i] > 0 && !(s.fixed_dof[i] & (1u << d)) ? 1 : 0;
+        }
+        if (law.any_lps) {
+            // LPS: q_i = theta_i / d (1 - m_intact / m_i) on damaged families (bond_forces.cpp).
+            g_.assign(n, 0.0);
+            for (std::size_t a = 0; a < s.rows.size(); ++a) {
+                const auto i = static_cast<std::size_t>(s.rows[a]);
+                if (!law.lps[static_cast<std::size_t>(s.body[i])])
+                    continue;
+                double mi = 0;
+                bool damaged = false;
+                for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
+                    const auto kk = static_cast<std::size_t>(k);
+                    if (!b.alive[kk]) {
+                        damaged = true;
+                        continue;
+                    }
+                    mi += b.omega[kk] * b.xi[kk] * b.xi[kk] * b.beta[kk] *
+                          s.vol[static_cast<std::size_t>(b.neighbor[kk])];
+                }
+                g_[i] = damaged ? 1.0 - mi / law.m[i] : 0.0;
+            }
+            dth_.assign(n, 0.0);
+            dq_.assign(n, 0.0);
+        }
+        w_.assign(3 * n, 0.0);
+    }
+
+    bool active(std::size_t dof) const { return mask_[dof] != 0; }
+
+    /// y = A x (owned rows; x's ghosts current). x and y full length.
+    void apply(const std::vector<double>& x, std::vector<double>& y) {
+        const std::size_t n = s_.n;
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t d = 0; d < 3; ++d)
+                w_[3 * i + d] = x[3 * i + d] * scale_[i];
+        const double* X = s_.x.data();
+        const double* vol = s_.vol.data();
+        const double* w = w_.data();
+        const double dd = law_.dimension;
+        auto dir = [&](std::size_t i, std::size_t j, double e[3], double& l) {
+            double sq = 0;
+            for (std::size_t c = 0; c < 3; ++c) {
+                e[c] = X[3 * j + c] - X[3 * i + c];
+                sq += e[c] * e[c];
+            }
+            l = std::sqrt(sq);
+            for (std::size_t c = 0; c < 3; ++c)
+                e[c] /= l;
+        };
+        auto proj = [&](std::size_t i, std::size_t j, const double e[3]) {
+            return e[0] * (w[3 * j] - w[3 * i]) + e[1] * (w[3 * j + 1] - w[3 * i + 1]) +
+                   e[2] * (w[3 * j + 2] - w[3 * i + 2]);
+        };
+        const std::size_t nr = s_.rows.size();
+        if (law_.any_lps) {
+            // Pass 1: the dilatation change of every LPS row, then its ghosts.
+            for (std::size_t a = 0; a < nr; ++a) {
+                const auto i = static_cast<std::size_t>(s_.rows[a]);
+                if (!law_.lps[static_cast<std::size_t>(s_.body[i])] || scale_[i] == 0) {
+                    dth_[i] = dq_[i] = 0;
+                    continue;
+                }
+                double th = 0;
+                for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                    const auto kk = static_cast<std::size_t>(k);
+                    if (!b_.alive[kk])
+                        continue;
+                    const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
+                    double e[3], l;
+                    dir(i, j, e, l);
+                    th += b_.omega[kk] * b_.xi[kk] * proj(i, j, e) * b_.beta[kk] * vol[j];
+                }
+                dth_[i] = dd * th / law_.m[i];
+                dq_[i] = g_[i] * dth_[i] / dd;
+            }
+            dom_.exchange({&dth_, &dq_}, 1);
+        }
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto i = static_cast<std::size_t>(s_.rows[a]);
+            double f[3] = {0, 0, 0};
+            if (scale_[i] > 0) {
+                const auto body = static_cast<std::size_t>(s_.body[i]);
+                const double kr = law_.krep[body];
+                for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                    const auto kk = static_cast<std::size_t>(k);
+                    const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
+                    double e[3], l, t = 0;
+                    if (law_.rnp[body]) {
+                        // Reference direction (rnp kernel: f = a X, S = X . eta / r^2); at S = 0.
+                        double sq = 0;
+                        for (std::size_t c = 0; c < 3; ++c) {
+                            e[c] = s_.x0[3 * j + c] - s_.x0[3 * i + c];
+                            sq += e[c] * e[c];
+                        }
+                        l = std::sqrt(sq);
+                        for (double& c : e)
+                            c /= l;
+                        t = 4.0 * b_.omega[kk] * law_.rnp_c[body] * law_.rnp_beta[body] /
+                            law_.rnp_inv[body] * b_.beta[kk] * vol[j] / b_.xi[kk] * proj(i, j, e);
+                    } else {
+                        dir(i, j, e, l);
+                        const double de = proj(i, j, e);
+                        if (!b_.alive[kk]) {
+                            // The broken-bond repulsion (spec 4.7) once the pair comes closer
+                            // than r_rep; a PMB bond counts at the larger of the two stiffnesses
+                            // (bonds may still break during the run).
+                            double k_pair = kr * vol[j];
+                            if (!law_.lps[body])
+                                k_pair = std::max(k_pair,
+                                                  law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk]);
+                            t = k_pair * de;
+                        } else if (law_.lps[body]) {
+                            const double kap = law_.kappa[body], mu = law_.mu[body];
+                            const double xi = b_.xi[kk];
+                            const double t_ij =
+                                b_.omega[kk] * (dd * kap * dth_[i] / law_.m[i] * xi +
+                                                law_.alpha * mu / law_.m[i] *
+                                                    (de - dth_[i] * xi / dd - dq_[i] * xi));
+                            const double t_ji =
+                                b_.omega[kk] * (dd * kap * dth_[j] / law_.m[j] * xi +
+                                                law_.alpha * mu / law_.m[j] *
+                                                    (de - dth_[j] * xi / dd - dq_[j] * xi));
+                            t = (t_ij + t_ji) * b_.beta[kk] * vol[j];
+                        } else {
+                            t = law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk] * de;
+                        }
+                    }
+                    f[0] += t * e[0];
+                    f[1] += t * e[1];
+                    f[2] += t * e[2];
+                }
+            }
+            // Nodal force V_i f_i, scaled by D^-1/2; minus: K = -df/du is positive.
+            const double sc = -vol[i] * scale_[i];
+            for (std::size_t c = 0; c < 3; ++c)
+                y[3 * i + c] = mask_[3 * i + c] ? sc * f[c] : 0.0;
+        }
+    }
+
+    double dot(const std::vector<double>& p, const std::vector<double>& q) const {
+        double sum = 0;
+        for (auto row : s_.rows) {
+            const auto i = 3 * static_cast<std::size_t>(row);
+            sum += p[i] * q[i] + p[i + 1] * q[i + 1] + p[i + 2] * q[i + 2];
+        }
+        return dom_.sum(sum);
+    }
+
+    void exchange(std::vector<double>& x) { dom_.exchange({&x}, 3); }
+
+  private:
+    const State& s_;
+    const BondData& b_;
+    const BodyLaw& law_;
+    Domain& dom_;
+    std::vector<double> scale_; ///< 1 / sqrt(rho V), 0 for nodes that do not move
+    std::vector<std::uint8_t> mask_;
+    std::vector<double> g_, dth_, dq_, w_;
+};
+
+} // namespace
+
+BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
+                           int max_iterations, double tolerance) {
+    BondSpectrum r;
+    BondOperator A(s, b, law, dom);
+    const std::size_t n3 = 3 * s.n;
+    std::vector<double> q(n3, 0.0), q_prev(n3, 0.0), w(n3, 0.0);
+    for (auto row : s.rows) {
+        const auto i = static_cast<std::size_t>(row);
+        for (std::size_t d = 0; d < 3; ++d)
+            if (A.active(3 * i + d))
+                q[3 * i + d] = hash_unit(3 * static_cast<std::uint64_t>(row) + d);
+    }
+    double norm = std::sqrt(A.dot(q, q));
+    if (!(norm > 0)) {
+        // Every dof prescribed: no dynamics of its own. The row-sum bound of the bonds keeps
+        // the step the conditions are sampled at finite (and as it was before issue 11).
+        double k_max = 0;
+        for (std::size_t a = 0; a < s.rows.size(); ++a) {
+            const auto i = static_cast<std::size_t>(s.rows[a]);
+            if (!s.moving[i])
+                continue;
+            const auto body = static_cast<std::size_t>(s.body[i]);
+            double k = 0;
+            for (auto kk = b.offsets[a]; kk < b.offsets[a + 1]; ++kk) {
+                const auto q = static_cast<std::size_t>(kk);
+                k += law.c[body] * b.stiff[q] * s.vol[static_cast<std::size_t>(b.neighbor[q])] /
+                     b.xi[q];
+            }
+            k_max = std::max(k_max, 2.0 * k / s.rho[i]);
+        }
+        r.ritz = dom.max(k_max);
+        return r;
+    }
+    for (auto& v : q)
+        v /= norm;
+    std::vector<double> alpha, beta;
+    double beta_prev = 0, last = 0;
+    int settled = 0;
+    for (int it = 0; it < max_iterations; ++it) {
+        A.exchange(q);
+        A.apply(q, w);
+        const double al = A.dot(q, w);
+        for (auto row : s.rows) {
+            const auto i = 3 * static_cast<std::size_t>(row);
+            for (std::size_t d = 0; d < 3; ++d)
+                w[i + d] -= al * q[i + d] + beta_prev * q_prev[i + d];
+        }
+        const double be = std::sqrt(A.dot(w, w));
+        alpha.push_back(al);
+        const auto k = static_cast<Eigen::Index>(alpha.size());
+        Eigen::VectorXd diag = Eigen::Map<Eigen::VectorXd>(alpha.data(), k);
+        Eigen::VectorXd sub =
+            k > 1 ? Eigen::Map<Eigen::VectorXd>(beta.data(), k - 1).eval() : Eigen::VectorXd();
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
+        es.computeFromTridiagonal(diag, sub, Eigen::ComputeEigenvectors);
+        r.ritz = es.eigenvalues()(k - 1);
+        r.residual = be * std::abs(es.eigenvectors()(k - 1, k - 1));
+        r.iterations = it + 1;
+        beta.push_back(be);
+        // Converged: the top Ritz value is steady and its residual small.
+        settled = std::abs(r.ritz - last) <= tolerance * r.ritz ? settled + 1 : 0;
+        last = r.ritz;
+        if (!(be > 1e-14 * std::abs(r.ritz)) ||
+            (settled >= 3 && r.residual <= 10 * tolerance * r.ritz))
+            break;
+        q_prev.swap(q);
+        for (auto row : s.rows) {
+            const auto i = 3 * static_cast<std::size_t>(row);
+            for (std::size_t d = 0; d < 3; ++d)
+                q[i + d] = w[i + d] / be;
+        }
+        beta_prev = be;
+    }
+    return r;
+}
+
+double contact_lambda_bound(const model::Model& m, const State& s) {
+    double lambda = 0;
+    int ng = 0;
+    for (auto g : m.bodies.group)
+        ng = std::max(ng, g + 1);
+    for (const auto& w : m.walls)
+        ng = std::max(ng, w.group + 1);
+    const auto G = static_cast<std::size_t>(ng);
+    std::vector<int> bodies(G, 0), moving(G, 0), walls(G, 0);
+    std::vector<double> hmin(G, std::numeric_limits<double>::infinity()), vmax(G, 0.0),
+        rho_min(G, std::numeric_limits<double>::infinity());
+    for (std::size_t b = 0; b < m.bodies.num(); ++b) {
+        const auto g = static_cast<std::size_t>(m.bodies.group[b]);
+        ++bodies[g];
+        moving[g] += m.bodies.fixed[b] ? 0 : 1;
+        hmin[g] = std::min(hmin[g], m.bodies.mesh_size[b]);
+        for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
+            const auto ii = static_cast<std::size_t>(i);
+            vmax[g] = std::max(vmax[g], s.vol[ii]);
+            if (!m.bodies.fixed[b])
+                rho_min[g] = std::min(rho_min[g], s.rho[ii]);
+        }
+    }
+    for (const auto& w : m.walls)
+        ++walls[static_cast<std::size_t>(w.group)];
+    for (const auto& p : m.contact) {
+        const double kn = contact_max_stiffness(p);
+        if (kn <= 0 || p.radius <= 0 || p.group_a >= ng || p.group_b >= ng)
+            continue;
+        const auto a = static_cast<std::size_t>(p.group_a), b = static_cast<std::size_t>(p.group_b);
+        // Can this law act at all?
+        const bool pair = a == b ? bodies[a] >= 2 && moving[a] >= 1
+                                 : bodies[a] >= 1 && bodies[b] >= 1 && moving[a] + moving[b] >= 1;
+        const bool wall = (walls[b] > 0 && moving[a] > 0) || (walls[a] > 0 && moving[b] > 0);
+        if (!pair && !wall)
+            continue;
+        const double h = std::min(hmin[a], hmin[b]);
+        const double v = std::max(vmax[a], vmax[b]);
+        const double rho = std::min(rho_min[a], rho_min[b]);
+        if (!std::isfinite(h) || !std::isfinite(rho) || !(v > 0))
+            continue;
+        const double reach = m.dimension == 3 ? 4.0 / 3.0 * M_PI * std::pow(p.radius, 3)
+                                              : M_PI * p.radius * p.radius;
+        // Node count within R_c (at least 1; a wall acts as one mirror node) times the largest
+        // nodal volume; twice the row sum (Gershgorin).
+        const double nodes_in = std::max(1.0, reach / std::pow(h, m.dimension));
+        lambda = std::max(lambda, 2.0 * kn * nodes_in * v / rho);
+    }
+    return lambda;
+}
+
+double critical_dt(double lambda) {
+    return lambda > 0 ? 2.0 / std::sqrt(lambda) : std::numeric_limits<double>::infinity();
+}
+
+} // namespace pd::solver

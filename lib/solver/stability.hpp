@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// Stability limit of the explicit integrators (velocity Verlet and symplectic Euler are both
+// stable for omega_max dt < 2): omega_max^2 is the largest eigenvalue of the mass-scaled tangent
+// stiffness M^-1/2 K M^-1/2. The bond part is computed, not bounded: a few tens of Lanczos
+// steps on the actual discrete operator of the bonds (PMB, LPS with its dilatation coupling,
+// RNP) at the current configuration. Contacts, which come and go, are bounded instead: each
+// contact law that can act gives the Gershgorin bound of the densest contact it can form (its
+// largest stiffness from the contact law, solver/contact.hpp). pd-solve takes the smaller step
+// of the two, not the strict bound of their sum (see Solver::stable_dt and the measured map in
+// workflows/accuracy/stability/RESULTS.md).
+#pragma once
+
+#include "model/model.hpp"
+#include "solver/domain.hpp"
+#include "solver/state.hpp"
+
+namespace pd::solver {
+
+/// Largest eigenvalue of the bonds' mass-scaled stiffness (s^-2).
+struct BondSpectrum {
+    double ritz = 0;     ///< largest Ritz value (a lower bound of lambda_max)
+    double residual = 0; ///< its residual norm: lambda_max is within [ritz, ritz + residual]
+                         ///< if the Ritz vector has converged to the top eigenvector
+    int iterations = 0;  ///< Lanczos steps taken
+    /// The value the time step uses: ritz + residual (from above once converged).
+    double lambda() const { return ritz + residual; }
+};
+
+/// Lanczos on y = D^-1/2 K D^-1/2 x (D_i = rho_i V_i, K the nodal tangent stiffness of the
+/// intact bonds at the positions s.x; prescribed dofs and fixed bodies are held at zero). Every
+/// bond of a PMB body counts as intact: a broken bond's repulsion (spec 4.7) is never stiffer
+/// than the bond was, so the estimate holds as bonds break. The start vector depends on global
+/// node ids only, so every rank count takes the same steps. Collective over `dom`'s ranks.
+/// `law` needs the LPS weighted volumes (law.m) when a body is LPS.
+BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
+                           int max_iterations = 80, double tolerance = 1e-4);
+
+/// Upper bound of the largest eigenvalue (s^-2) that contact can add, over every contact law of
+/// `m` that can act (two bodies of its groups, or a body and a wall, one of them moving): a node
+/// pressed into a neighbour body whose nodes fill a contact disc (sphere in 3D) of radius R_c at
+/// the densest nodal spacing of the two groups, each pair at the law's largest stiffness
+/// (contact_max_stiffness); Gershgorin (twice the row sum). 0 if no law can act.
+double contact_lambda_bound(const model::Model& m, const State& s);
+
+/// Time step limit 2 / sqrt(lambda) (s); infinity for lambda <= 0.
+double critical_dt(double lambda);
+
+} // namespace pd::solver
