@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: MIT
+// The run's guards, at the observed steps: a non-finite state, a blow-up, interpenetration, a
+// node through a rigid wall, a broken energy balance each stop the run (NumericalError, exit 3)
+// with the frames before in the file. Every rank sees the same reduced values: the error unwinds
+// on every rank alike.
+#include "core/errors.hpp"
+#include "h5/file.hpp"
+#include "pipeline/run/schedule.hpp"
+#include "store/frames.hpp"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace pd::pipeline::run {
+
+namespace {
+
+/// The fastest node of all ranks, for the messages (collective).
+std::pair<std::size_t, double> fastest(const Run& r) {
+    const auto& st = r.s.state();
+    std::size_t fast = 0;
+    double vmax = -1;
+    for (auto row : st.rows) {
+        const auto i = static_cast<std::size_t>(row);
+        const double v = std::hypot(st.v[3 * i], st.v[3 * i + 1], st.v[3 * i + 2]);
+        if (v > vmax) {
+            vmax = v;
+            fast = i;
+        }
+    }
+    if (r.par) {
+        struct {
+            double v;
+            int i;
+        } mine{vmax, static_cast<int>(fast)}, all{};
+        MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, r.comm);
+        vmax = all.v;
+        fast = static_cast<std::size_t>(all.i);
+    }
+    return {fast, vmax};
+}
+
+/// A guard that fires keeps the row that failed in the file, then stops the run.
+[[noreturn]] void stop_with_row(Run& r, std::int64_t n, const std::string& why) {
+    r.obs.add(n, r.s.state().time, observable_row(r.last_obs));
+    r.obs.flush();
+    throw NumericalError(why);
+}
+
+class Guards final : public Action {
+  public:
+    explicit Guards(Run& r)
+        : Action(observation_trigger(r.steps)) {
+        reference(r);
+    }
+    void run(Run& r, std::int64_t n) override {
+        finite(r, n);
+        bounded(r, n);
+        if (r.opt.penetration_check) {
+            inside(r, n);
+            beyond_wall(r, n);
+        }
+        balance(r, n);
+    }
+
+  private:
+    double energy0_ = 0, balance0_ = 0, in_play_ = 0;
+
+    void reference(Run& r);
+    void finite(Run& r, std::int64_t n) const;
+    void bounded(Run& r, std::int64_t n) const;
+    void inside(Run& r, std::int64_t n) const;
+    void beyond_wall(Run& r, std::int64_t n) const;
+    void balance(Run& r, std::int64_t n);
+};
+
+/// Initial energy and balance: at t = 0 from the state, on a restart from the first observable
+/// row (kept across restarts; NaN in a file from before pd-file 1.2: no balance check), the
+/// energy in play as the largest over the rows so far.
+void Guards::reference(Run& r) {
+    if (r.steps.first == 0) {
+        const auto o = r.s.observe();
+        energy0_ = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+        balance0_ = solver::energy_balance(o);
+        in_play_ = solver::energy_in_play(o);
+        return;
+    }
+    auto series = store::read_observables(r.file);
+    auto at = [&](const char* name, std::size_t row) {
+        const auto it = series.find(name);
+        return it != series.end() && row < it->second.value.size()
+                   ? it->second.value[row]
+                   : std::numeric_limits<double>::quiet_NaN();
+    };
+    const auto ke = series.find("kinetic_energy");
+    const std::size_t rows = ke != series.end() ? ke->second.value.size() : 0;
+    for (std::size_t row = 0; row < rows; ++row) {
+        solver::Observables o;
+        o.kinetic_energy = at("kinetic_energy", row);
+        o.elastic_energy = at("elastic_energy", row);
+        o.contact_energy = at("contact_energy", row);
+        o.external_work = at("external_work", row);
+        o.fracture_energy = at("fracture_energy", row);
+        o.damping_dissipation = at("damping_dissipation", row);
+        o.friction_dissipation = at("friction_dissipation", row);
+        o.viscous_dissipation = at("viscous_dissipation", row);
+        if (row == 0) {
+            energy0_ = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+            balance0_ = solver::energy_balance(o);
+        }
+        in_play_ = std::max(in_play_, solver::energy_in_play(o));
+    }
+}
+
+void Guards::finite(Run& r, std::int64_t n) const {
+    const auto& o = r.last_obs;
+    if (std::isfinite(o.kinetic_energy) && std::isfinite(o.elastic_energy) &&
+        std::isfinite(o.contact_energy))
+        return;
+    r.obs.flush();
+    const auto i = r.s.first_nonfinite();
+    throw NumericalError(
+        fmt::format("{}: non-finite state at step {} (t = {:.6g} s){}; the last good frame "
+                    "stays in the file. Lower dt (now {:.4g} s) or check the scene",
+                    r.opt.file, n, r.s.state().time,
+                    i >= 0 ? fmt::format(" at node {} of body {}", i,
+                                         r.s.state().body[static_cast<std::size_t>(i)])
+                           : std::string{},
+                    r.steps.dt));
+}
+
+/// Blow-up: the mechanical energy far above what the system started with plus the work done on
+/// it (it can only lose energy to damping and fracture).
+void Guards::bounded(Run& r, std::int64_t n) const {
+    const auto& o = r.last_obs;
+    const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
+    if (!(e > 100.0 * (energy0_ + std::max(0.0, o.external_work)) + 1e-300))
+        return;
+    r.obs.flush();
+    const auto& st = r.s.state();
+    const auto [fast, vmax] = fastest(r);
+    throw NumericalError(
+        fmt::format("{}: blow-up at step {} (t = {:.6g} s): energy {:.4g} J against {:.4g} J "
+                    "initial plus {:.4g} J of external work (fastest: node {} of body {}, "
+                    "{:.3g} m/s); the last good frame stays in the file. Lower dt (now {:.4g} "
+                    "s; "
+                    "stability estimate {:.4g} s)",
+                    r.opt.file, n, st.time, e, energy0_, o.external_work, fast, st.body[fast], vmax,
+                    r.steps.dt, r.steps.est.limit));
+}
+
+/// Interpenetration: a node more than R_c + h/2 inside another grain.
+void Guards::inside(Run& r, std::int64_t n) const {
+    const auto& o = r.last_obs;
+    if (o.inside_pairs <= 0)
+        return;
+    stop_with_row(
+        r, n,
+        fmt::format("{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) "
+                    "more than the contact radius + h/2 inside another grain{}. The contact "
+                    "is too soft for this load or impact (raise contact.stiffness_factor or "
+                    "the radius, slow the loading); the frames before stay in the file "
+                    "(--no-penetration-check runs on)",
+                    r.opt.file, n, r.s.state().time, o.inside_pairs,
+                    o.inside_node >= 0 ? fmt::format(" (node {} of body {} inside body {})",
+                                                     o.inside_node, o.inside_body, o.inside_of)
+                                       : std::string{}));
+}
+
+void Guards::beyond_wall(Run& r, std::int64_t n) const {
+    const auto& o = r.last_obs;
+    if (o.beyond_wall <= 0)
+        return;
+    stop_with_row(
+        r, n,
+        fmt::format("{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
+                    "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
+                    "too soft for this impact (raise contact.stiffness_factor, lower the "
+                    "speed); the frames before stay in the file (--no-penetration-check "
+                    "runs on)",
+                    r.opt.file, n, r.s.state().time, o.beyond_wall,
+                    o.beyond_node >= 0
+                        ? fmt::format(" (node {} of body {}, wall {})", o.beyond_node,
+                                      r.s.state().body[static_cast<std::size_t>(o.beyond_node)],
+                                      o.beyond_wall_index)
+                        : std::string{}));
+}
+
+/// Energy balance: energy created (an instability, even one that fracture then absorbs) or lost
+/// without account shows up here long before 100x.
+void Guards::balance(Run& r, std::int64_t n) {
+    const auto& o = r.last_obs;
+    in_play_ = std::max(in_play_, solver::energy_in_play(o));
+    const double drift = solver::energy_balance(o) - balance0_;
+    const double tol = r.opt.energy_tolerance;
+    if (!(tol > 0 && std::isfinite(balance0_) && std::abs(drift) > tol * in_play_ && in_play_ > 0))
+        return;
+    r.obs.add(n, r.s.state().time, observable_row(o)); // the row that failed
+    r.obs.flush();
+    const auto [fast, vmax] = fastest(r);
+    throw NumericalError(
+        fmt::format("{}: energy balance broken at step {} (t = {:.6g} s): KE + elastic + "
+                    "contact + dissipated - external work moved by {:+.4g} J, {:.3g} % of the "
+                    "{:.4g} J in play (tolerance {:.3g} %, --energy-tolerance; broken bonds "
+                    "{}; fastest: node {} of body {}, {:.3g} m/s). The time step (now {:.4g} "
+                    "s, stability estimate {:.4g} s) is too large or the model is unstable; "
+                    "the frames before stay in the file",
+                    r.opt.file, n, r.s.state().time, drift, 100 * std::abs(drift) / in_play_,
+                    in_play_, 100 * tol, o.broken_bonds, fast, r.s.state().body[fast], vmax,
+                    r.steps.dt, r.steps.est.limit));
+}
+
+} // namespace
+
+std::unique_ptr<Action> make_guards(Run& r) {
+    return std::make_unique<Guards>(r);
+}
+
+} // namespace pd::pipeline::run
