@@ -85,6 +85,35 @@ void warn_sparse_families(const model::Model& m, const Log& log) {
              m.dimension == 3 ? 113 : 28);
 }
 
+/// Writes the packed model under a temporary name and renames it into place: a failed write
+/// (full disk) leaves any previous output as it was.
+void write_packed(const model::Model& m, const std::string& output, Context& ctx) {
+    const std::string tmp = fmt::format("{}.tmp.{}", output, ::getpid());
+    // 1 MB set aside, freed when a write fails (full disk) so that HDF5 can close the temporary
+    // file instead of crashing (SIGSEGV at close before).
+    SpaceReserve reserve = SpaceReserve::create(tmp, std::uint64_t{1} << 20);
+    try {
+        {
+            h5::File f(tmp, h5::Mode::create_truncate);
+            try {
+                store::write_model(f, m);
+                if (!ctx.run.overrides.empty())
+                    f.write_string(store::path::parameters_overrides, ctx.run.overrides);
+                store::append_provenance(f, ctx.run, 0);
+            } catch (...) {
+                reserve.release();
+                throw;
+            }
+            reserve.release();
+        }
+        std::filesystem::rename(tmp, output);
+    } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw;
+    }
+}
+
 } // namespace
 
 void pack(const PackOptions& opt, Context& ctx) {
@@ -138,30 +167,7 @@ void pack(const PackOptions& opt, Context& ctx) {
     model::Model m = build_scene(text, source, ctx.log, opt.max_nodes_given ? opt.max_nodes : 0);
     warn_sparse_families(m, ctx.log);
 
-    const std::string tmp = fmt::format("{}.tmp.{}", opt.output, ::getpid());
-    // 1 MB set aside, freed when a write fails (full disk) so that HDF5 can close the temporary
-    // file instead of crashing (SIGSEGV at close before).
-    SpaceReserve reserve = SpaceReserve::create(tmp, std::uint64_t{1} << 20);
-    try {
-        {
-            h5::File f(tmp, h5::Mode::create_truncate);
-            try {
-                store::write_model(f, m);
-                if (!ctx.run.overrides.empty())
-                    f.write_string(store::path::parameters_overrides, ctx.run.overrides);
-                store::append_provenance(f, ctx.run, 0);
-            } catch (...) {
-                reserve.release();
-                throw;
-            }
-            reserve.release();
-        }
-        std::filesystem::rename(tmp, opt.output);
-    } catch (...) {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
-        throw;
-    }
+    write_packed(m, opt.output, ctx);
     ctx.log.info("wrote {}: {} bodies, {} walls, {} nodes, {} bonds, {} materials", opt.output,
                  m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), m.materials.size());
     if (!opt.preview.empty()) {
