@@ -144,11 +144,6 @@ std::vector<std::string> File::attr_names(const std::string& path) const {
     template std::vector<T> File::attr_vector<T>(const std::string&, const std::string&) const;    \
     template T File::attr<T>(const std::string&, const std::string&) const;
 
-PD_H5_INSTANTIATE(double)
-PD_H5_INSTANTIATE(float)
-PD_H5_INSTANTIATE(std::int32_t)
-PD_H5_INSTANTIATE(std::int64_t)
-PD_H5_INSTANTIATE(std::uint8_t)
-PD_H5_INSTANTIATE(std::uint64_t)
+PD_H5_ELEMENT_TYPES(PD_H5_INSTANTIATE)
 
 } // namespace pd::h5

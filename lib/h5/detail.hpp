@@ -12,6 +12,11 @@
 #include <type_traits>
 #include <vector>
 
+/// The element types every typed File member is instantiated for (each .cpp applies its own
+/// PD_H5_INSTANTIATE to this list, so the list is kept in one place).
+#define PD_H5_ELEMENT_TYPES(X)                                                                     \
+    X(double) X(float) X(std::int32_t) X(std::int64_t) X(std::uint8_t) X(std::uint64_t)
+
 namespace pd::h5::detail {
 
 template <class T>

@@ -188,11 +188,6 @@ void File::append(const std::string& path, std::span<const T> data, std::uint64_
     template void File::write_rows<T>(const std::string&, std::span<const T>, std::uint64_t,       \
                                       std::uint64_t);
 
-PD_H5_INSTANTIATE(double)
-PD_H5_INSTANTIATE(float)
-PD_H5_INSTANTIATE(std::int32_t)
-PD_H5_INSTANTIATE(std::int64_t)
-PD_H5_INSTANTIATE(std::uint8_t)
-PD_H5_INSTANTIATE(std::uint64_t)
+PD_H5_ELEMENT_TYPES(PD_H5_INSTANTIATE)
 
 } // namespace pd::h5

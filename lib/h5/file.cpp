@@ -452,11 +452,6 @@ std::string File::read_string(const std::string& path) const {
     template std::vector<T> File::read<T>(const std::string&, dims_t*) const;                      \
     template T File::read_scalar<T>(const std::string&) const;
 
-PD_H5_INSTANTIATE(double)
-PD_H5_INSTANTIATE(float)
-PD_H5_INSTANTIATE(std::int32_t)
-PD_H5_INSTANTIATE(std::int64_t)
-PD_H5_INSTANTIATE(std::uint8_t)
-PD_H5_INSTANTIATE(std::uint64_t)
+PD_H5_ELEMENT_TYPES(PD_H5_INSTANTIATE)
 
 } // namespace pd::h5
