@@ -64,6 +64,19 @@ inline bool wall_present(const Wall& w, double t) {
     return t >= w.start_time;
 }
 
+/// Signed distance of x from a wall at its t = 0 pose (positive on the free side): where a wall
+/// with a start_time enters.
+inline double wall_distance(const Wall& w, const double* x) {
+    if (w.shape == WallShape::plane) {
+        double d = 0;
+        for (std::size_t q = 0; q < 3; ++q)
+            d += (x[q] - w.point[q]) * w.normal[q];
+        return d;
+    }
+    const double r = std::hypot(x[0] - w.point[0], x[1] - w.point[1], x[2] - w.point[2]);
+    return w.shape == WallShape::circle_inside ? w.radius - r : r - w.radius;
+}
+
 /// S(X) of a condition's space function at reference position X; `box` = x and y range of the
 /// condition's nodes (the hat functions).
 inline double space_value(SpaceFn f, double p0, const double* X, const std::array<double, 4>& box) {

@@ -96,3 +96,26 @@ def test_without_start_time_the_plate_is_refused(tmp_path):
     (tmp_path / "b.json").write_text(json.dumps(scene(-1.0)))
     r = run(os.path.join(BIN, "pd-pack"), tmp_path / "b.json", "-o", tmp_path / "b.h5")
     assert r.returncode == 2 and "start_time" in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("t1", [1e-9, 1e-4])
+def test_plate_entering_inside_a_grain_is_refused_naming_the_wall(tmp_path, t1):
+    # At t1 the disc (top 0.2 mm above the plate's entry point at t = 0; it falls 5 um by
+    # 0.1 ms) still crosses the plate's surface: the run stops before the plate's first step
+    # with exit 2 naming the wall, not with a blow-up that blames dt (the n500 run did that).
+    # t1 = 1e-9 s enters within the run's first step (checked at set-up).
+    if not os.path.isfile(os.path.join(BIN, "pd-solve")):
+        pytest.skip("PD_BIN_DIR has no pd-solve")
+    (tmp_path / "s.json").write_text(json.dumps(scene(start_time=t1)))
+    h5 = tmp_path / "s.h5"
+    r = run(os.path.join(BIN, "pd-pack"), tmp_path / "s.json", "-o", h5, "-q")
+    assert r.returncode == 0, r.stderr
+    r = run(os.path.join(BIN, "pd-solve"), h5, "-q")
+    assert r.returncode == 2, r.stderr
+    assert "(walls[1]) enters at t = " in r.stderr, r.stderr  # names are not in the file
+    assert "behind its surface" in r.stderr and "Lower dt" not in r.stderr
+    depth = float(r.stderr.split("the deepest ")[1].split(" m")[0])
+    assert 1.5e-4 < depth < 2.2e-4, r.stderr  # the disc's top, 0.21 mm above the plate
+    with h5py.File(h5, "r") as f:  # the frames before the entry stay readable
+        t = f["particles/nodes/position/time"][:]
+        assert t[0] == 0 and np.all(t < t1 + 1e-12)

@@ -114,7 +114,4 @@ void parse_solver(SceneBuild& s);
 /// against `base` (the scene file's folder) (shapes.cpp).
 geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const std::string& base);
 
-/// Signed distance of x from a wall at t = 0 (positive on the free side) (walls.cpp).
-double wall_distance(const model::Wall& w, const double* x);
-
 } // namespace pd::pipeline::scene

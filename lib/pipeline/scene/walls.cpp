@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/errors.hpp"
+#include "model/functions.hpp"
 #include "pipeline/scene/build.hpp"
 
 #include <algorithm>
@@ -67,18 +68,6 @@ model::Wall parse_wall(const json& wj, std::size_t k, const model::Model& m) {
 
 } // namespace
 
-/// Signed distance of x from a wall at t = 0 (positive on the free side).
-double wall_distance(const model::Wall& w, const double* x) {
-    if (w.shape == model::WallShape::plane) {
-        double d = 0;
-        for (std::size_t q = 0; q < 3; ++q)
-            d += (x[q] - w.point[q]) * w.normal[q];
-        return d;
-    }
-    const double r = std::hypot(x[0] - w.point[0], x[1] - w.point[1], x[2] - w.point[2]);
-    return w.shape == model::WallShape::circle_inside ? w.radius - r : r - w.radius;
-}
-
 void parse_walls(SceneBuild& s) {
     const json& root = s.root;
     model::Model& m = s.m;
@@ -104,7 +93,7 @@ void parse_walls(SceneBuild& s) {
             if (wall.start_time > 0)
                 continue;
             for (std::size_t i = 0; i < m.nodes.num(); ++i) {
-                const double d = wall_distance(wall, &m.nodes.x0[3 * i]);
+                const double d = model::wall_distance(wall, &m.nodes.x0[3 * i]);
                 if (d < 0)
                     throw ConfigError(
                         fmt::format("{}, walls[{}]",
@@ -130,7 +119,7 @@ void warn_close_to_walls(SceneBuild& s) {
             if (p.group_a == wall.group || p.group_b == wall.group)
                 rc = std::max(rc, p.radius);
         for (std::size_t i = 0; i < m.nodes.num(); ++i)
-            close += wall_distance(wall, &m.nodes.x0[3 * i]) < rc;
+            close += model::wall_distance(wall, &m.nodes.x0[3 * i]) < rc;
         if (close > 0)
             log.warn("walls[{}]: {} nodes start within the contact radius {:.3g} m of the wall "
                      "(they are pushed off at t = 0)",
