@@ -22,7 +22,8 @@ centred moving average over --window seconds (PeriDEM's figure: 75, 300, 900 us)
   rise_to_mm: the smoothed stress grows from onset to there: its mean over the last quarter of
   that range is at least rise_min_ratio (default 2) x its mean over the first quarter, and its
   least-squares slope at least rise_min_slope kPa/mm (default 0);
-  broken_bonds_min: bonds broken by the end of the run at least this many."""
+  broken_bonds_min: bonds broken by the end of the run at least this many;
+  after_onset: true makes at_mm, plateau_mm and rise_to_mm count from the onset."""
 
 import argparse
 import json
@@ -101,6 +102,15 @@ def check(pen_mm, s_kpa, bounds, broken):
     onset = pen_mm[above[0]] if len(above) else np.inf
     if "onset_mm" in bounds:
         report("onset (mm, > %g kPa)" % thr, onset, *bounds["onset_mm"])
+    if bounds.get("after_onset", False):
+        # the other bounds count penetration from the onset: where the settled pack's top lies
+        # is a property of stage 1 (how the grains settled), the curve after it of the
+        # material and the contact
+        if not np.isfinite(onset):
+            print("  no onset: the stress never exceeds %g kPa  FAIL" % thr)
+            return False
+        print("  (penetrations below count from the onset, %.3f mm)" % onset)
+        pen_mm, onset = pen_mm - onset, 0.0
     for p, (lo, hi) in bounds.get("at_mm", {}).items():
         p = float(p)
         if p > pen_mm[-1]:
@@ -126,6 +136,9 @@ def check(pen_mm, s_kpa, bounds, broken):
         end = bounds["rise_to_mm"]
         sel = (pen_mm >= onset) & (pen_mm <= end)
         p, y = pen_mm[sel], s_kpa[sel]
+        if len(p) < 4:
+            print("  rise: onset %.2f mm leaves no curve before %.2f mm  FAIL" % (onset, end))
+            return False
         q = (p[-1] - p[0]) / 4
         ratio = float(y[p >= p[-1] - q].mean() / max(y[p <= p[0] + q].mean(), 1e-30))
         report("rise: last / first quarter", ratio, bounds.get("rise_min_ratio", 2.0), np.inf)

@@ -184,10 +184,12 @@ TEST(Slots, SceneKeyRemovesNodesAndBonds) {
     // x = -1 mm, 3.25 mm from the face (x = -4.25 mm) at y = -5 mm, is not.
     for (std::size_t i = 0; i < notched.nodes.num(); ++i) {
         const double x = notched.nodes.x0[3 * i], y = notched.nodes.x0[3 * i + 1];
-        if (std::abs(y + 0.005) < 1e-9 && std::abs(x + 0.004) < 1e-9)
+        if (std::abs(y + 0.005) < 1e-9 && std::abs(x + 0.004) < 1e-9) {
             EXPECT_EQ(notched.nodes.surface[i], 1);
-        if (std::abs(y + 0.005) < 1e-9 && std::abs(x + 0.001) < 1e-9)
+        }
+        if (std::abs(y + 0.005) < 1e-9 && std::abs(x + 0.001) < 1e-9) {
             EXPECT_EQ(notched.nodes.surface[i], 0);
+        }
     }
     EXPECT_DOUBLE_EQ(
         slot_distance({{0, 0, 0}, {0, 1, 0}, 0.5}, std::array<double, 3>{1, 2, 0}.data()),
