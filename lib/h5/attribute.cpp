@@ -121,6 +121,38 @@ std::string File::attr_string(const std::string& path, const std::string& name) 
     return s;
 }
 
+std::vector<std::string> File::attr_strings(const std::string& path,
+                                            const std::string& name) const {
+    if (!has_attr(path, name))
+        throw Error(name_, path, "missing attribute '" + name + "'");
+    Handle a(H5Aopen_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT));
+    Handle ft(H5Aget_type(a.get()));
+    if (H5Tget_class(ft.get()) != H5T_STRING)
+        throw Error(name_, path, "attribute '" + name + "' is not a string");
+    Handle sp(H5Aget_space(a.get()));
+    const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(sp.get()));
+    std::vector<std::string> v;
+    v.reserve(n);
+    if (H5Tis_variable_str(ft.get()) > 0) {
+        Handle t = vlen_string_type();
+        std::vector<char*> p(n, nullptr);
+        if (H5Aread(a.get(), t.get(), p.data()) < 0)
+            fail(path, "cannot read attribute " + name);
+        for (auto* c : p) {
+            v.emplace_back(c ? c : "");
+            H5free_memory(c);
+        }
+        return v;
+    }
+    const std::size_t len = H5Tget_size(ft.get());
+    std::vector<char> buf(n * len + 1, '\0');
+    if (H5Aread(a.get(), ft.get(), buf.data()) < 0)
+        fail(path, "cannot read attribute " + name);
+    for (std::size_t k = 0; k < n; ++k)
+        v.emplace_back(buf.data() + k * len, strnlen(buf.data() + k * len, len));
+    return v;
+}
+
 std::vector<std::string> File::attr_names(const std::string& path) const {
     Handle o = open_object(path);
     H5O_info_t info;

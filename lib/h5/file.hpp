@@ -168,6 +168,8 @@ class File {
     template <Element T>
     T attr(const std::string& path, const std::string& name) const;
     std::string attr_string(const std::string& path, const std::string& name) const;
+    /// A string array attribute (variable or fixed length).
+    std::vector<std::string> attr_strings(const std::string& path, const std::string& name) const;
     std::vector<std::string> attr_names(const std::string& path) const;
 
   private:

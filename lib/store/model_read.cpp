@@ -281,9 +281,19 @@ void read_walls(const h5::File& f, model::Model& m) {
                     throw SchemaError(f.name(), w + "/start_time",
                                       fmt::format("wall {}: {} is not a time >= 0", k, start[k]));
         }
+        // The scene's names (optional for external writers; "wall_k" without them).
+        std::vector<std::string> names;
+        if (f.has_attr(w, "names")) {
+            names = f.attr_strings(w, "names");
+            if (names.size() != nw)
+                throw SchemaError(f.name(), w + "@names",
+                                  fmt::format("{} names for {} walls", names.size(), nw));
+        }
         for (std::size_t k = 0; k < nw; ++k) {
             m.walls.push_back(wall_at(f, w, k, shape, group, point, normal, radius, vel, omega,
                                       centre, motion, mparams, start));
+            if (!names.empty() && !names[k].empty())
+                m.walls.back().name = names[k];
         }
     }
 }

@@ -112,7 +112,7 @@ def test_plate_entering_inside_a_grain_is_refused_naming_the_wall(tmp_path, t1):
     assert r.returncode == 0, r.stderr
     r = run(os.path.join(BIN, "pd-solve"), h5, "-q")
     assert r.returncode == 2, r.stderr
-    assert "(walls[1]) enters at t = " in r.stderr, r.stderr  # names are not in the file
+    assert "wall 'plate' (walls[1]) enters at t = " in r.stderr, r.stderr
     assert "behind its surface" in r.stderr and "Lower dt" not in r.stderr
     depth = float(r.stderr.split("the deepest ")[1].split(" m")[0])
     assert 1.5e-4 < depth < 2.2e-4, r.stderr  # the disc's top, 0.21 mm above the plate
