@@ -123,15 +123,6 @@ void Solver::compute_forces() {
     }
     contact_energy_ = f_.contact_energy + repulsion_energy_;
     contact_count_ = f_.contact_count;
-    if (f_.has_gravity()) {
-        auto& s = f_.s;
-        const auto n = static_cast<std::int64_t>(s.rows.size());
-        for_each_row(n, parallel_min_nodes, [&](std::int64_t a) {
-            const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
-            for (int d = 0; d < 3; ++d)
-                s.f[3 * i + d] += s.rho[static_cast<std::size_t>(i)] * f_.g[d];
-        });
-    }
 }
 
 void Solver::bond_forces_only(bool reference) {
