@@ -21,6 +21,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace pd::solver {
@@ -105,8 +106,8 @@ class ForceTerm {
 
 using TermList = std::vector<std::unique_ptr<ForceTerm>>;
 
-/// The terms of terms/terms.def that the scene needs, in that order.
-TermList make_terms(Forces& f);
+/// The terms of terms/terms.def that the scene needs, in that order; their names into `names`.
+TermList make_terms(Forces& f, std::vector<std::string>* names = nullptr);
 
 /// Re-sets the ghosts (bond ghosts and the contact list's) and exchanges x, u, v (MPI: after a
 /// contact-list rebuild).

@@ -42,7 +42,7 @@ Solver::Solver(const model::Model& m, Domain* dom, std::vector<index_t> row_neig
     f_.t_damping = t.id("pd::solver::damping_friction");
     if (f_.dom->distributed())
         f_.t_halo = t.id("pd::solver::halo_exchange");
-    terms_ = make_terms(f_);
+    terms_ = make_terms(f_, &term_names_);
 }
 
 void Solver::init_state() {

@@ -79,6 +79,8 @@ class Solver {
     void nodal_force(std::vector<double>& out) const;
     /// Index of the first node with a non-finite position or velocity, or -1.
     std::int64_t first_nonfinite() const;
+    /// The force terms this scene needs, in the order they are summed (terms/terms.def).
+    const std::vector<std::string>& terms() const { return term_names_; }
     Timers& timers() { return f_.timers; }
     const ContactList& contact() const { return *f_.contact; }
     const WallContact& walls() const { return *f_.walls; }
@@ -132,6 +134,7 @@ class Solver {
 
     Forces f_;
     TermList terms_;
+    std::vector<std::string> term_names_;
     std::unique_ptr<Domain> serial_;     ///< the one-rank domain when none is given
     std::vector<index_t> row_neighbors_; ///< neighbour lists for build_bonds() (then empty)
     double dt_ = 0;

@@ -8,13 +8,16 @@ namespace pd::solver {
 #include "solver/terms/terms.def"
 #undef PD_TERM
 
-TermList make_terms(Forces& f) {
+TermList make_terms(Forces& f, std::vector<std::string>* names) {
     TermList list;
-    auto add = [&](std::unique_ptr<ForceTerm> t) {
-        if (t)
-            list.push_back(std::move(t));
+    auto add = [&](std::unique_ptr<ForceTerm> t, const char* name) {
+        if (!t)
+            return;
+        list.push_back(std::move(t));
+        if (names)
+            names->push_back(name);
     };
-#define PD_TERM(name) add(make_##name(f));
+#define PD_TERM(name) add(make_##name(f), #name);
 #include "solver/terms/terms.def"
 #undef PD_TERM
     return list;
