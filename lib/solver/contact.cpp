@@ -68,6 +68,41 @@ bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double
     return far;
 }
 
+namespace {
+/// The record of the touching pair (i, j) at distance r (d = x_j - x_i): the force on j's body
+/// from i's body, Kn (R_c - r) V_i V_j along d/r, stored as (smaller, larger) node.
+BodyPairForce pair_record(const State& s, const model::ContactPair& law, std::int64_t i, index_t j,
+                          double r, const double* d) {
+    const auto ii = static_cast<std::size_t>(i);
+    const double c =
+        law.stiffness * (law.radius - r) * (s.vol[ii] * s.vol[static_cast<std::size_t>(j)]) / r;
+    const double sg = i < j ? c : -c;
+    BodyPairForce rec{s.body[ii],
+                      s.body[static_cast<std::size_t>(j)],
+                      static_cast<index_t>(std::min<std::int64_t>(i, j)),
+                      static_cast<index_t>(std::max<std::int64_t>(i, j)),
+                      {sg * d[0], sg * d[1], sg * d[2]},
+                      law.friction,
+                      law.restitution < 1};
+    if (j < i)
+        std::swap(rec.a, rec.b);
+    return rec;
+}
+
+/// The records in a deterministic order whatever the thread schedule, normalised to a < b.
+std::vector<BodyPairForce> sorted(std::vector<BodyPairForce> records) {
+    std::sort(records.begin(), records.end(),
+              [](const auto& p, const auto& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });
+    for (auto& r : records)
+        if (r.a > r.b) { // normalise to a < b: force on the higher-numbered body
+            std::swap(r.a, r.b);
+            for (double& c : r.force)
+                c = -c;
+        }
+    return records;
+}
+} // namespace
+
 std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                                           std::vector<BodyPairForce>* normal) const {
     const auto n = static_cast<std::int64_t>(s.rows.size());
@@ -119,19 +154,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
                 // records do not depend on which side computed them.
                 if (normal && (law.restitution < 1 || law.friction > 0) &&
                     (i < j || !owned_[static_cast<std::size_t>(j)])) {
-                    // force on j's body from i's body: Kn (R_c - r) V_i V_j along d/r
-                    const double c = law.stiffness * (law.radius - r) *
-                                     (s.vol[ii] * s.vol[static_cast<std::size_t>(j)]) / r;
-                    const double sg = i < j ? c : -c;
-                    mine.push_back({s.body[ii],
-                                    s.body[static_cast<std::size_t>(j)],
-                                    static_cast<index_t>(std::min<std::int64_t>(i, j)),
-                                    static_cast<index_t>(std::max<std::int64_t>(i, j)),
-                                    {sg * d0, sg * d1, sg * d2},
-                                    law.friction,
-                                    law.restitution < 1});
-                    if (j < i)
-                        std::swap(mine.back().a, mine.back().b);
+                    const double d[3] = {d0, d1, d2};
+                    mine.push_back(pair_record(s, law, i, j, r, d));
                 }
             }
             s.f[3 * i] += fi[0];
@@ -153,17 +177,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
     }
     energy = e;
     inside_.count = inside;
-    if (normal) {
-        std::sort(records.begin(), records.end(),
-                  [](const auto& p, const auto& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });
-        for (auto& r : records)
-            if (r.a > r.b) { // normalise to a < b: force on the higher-numbered body
-                std::swap(r.a, r.b);
-                for (double& c : r.force)
-                    c = -c;
-            }
-        *normal = std::move(records);
-    }
+    if (normal)
+        *normal = sorted(std::move(records));
     return touching;
 }
 
@@ -192,14 +207,99 @@ void ContactList::ghosts(std::vector<index_t>& out) const {
             out.push_back(j);
 }
 
-void ContactList::rebuild(const State& s) {
-    ++rebuilds_;
-    built_ = true;
-    x_build_ = s.x;
-    const std::size_t nb = body_offsets_.size() - 1;
-    const double reach = rc_max_ + skin_;
+namespace {
+/// A cell list of the active nodes, cell size `reach`: cells sorted by key, (key, node) pairs,
+/// one sort, no per-cell allocation.
+struct CellGrid {
+    struct Cell {
+        std::size_t begin, end; ///< range in `keyed`
+        std::int32_t body;      ///< the one body with nodes in the cell, or -1 if several
+        bool quiet;             ///< this cell and its neighbours hold nodes of `body` only
+    };
+    double reach = 0;
+    double origin[3] = {0, 0, 0};
+    int zr = 1; ///< 0 when every node lies in z = 0
+    std::vector<std::pair<std::int64_t, index_t>> keyed;
+    std::unordered_map<std::int64_t, Cell> cells;
+
+    std::int64_t cell_of(const double* x, int dx, int dy, int dz) const {
+        const auto cx = static_cast<std::int64_t>((x[0] - origin[0]) / reach) + dx;
+        const auto cy = static_cast<std::int64_t>((x[1] - origin[1]) / reach) + dy;
+        const auto cz = static_cast<std::int64_t>((x[2] - origin[2]) / reach) + dz;
+        return (cx << 42) | (cy << 21) | cz;
+    }
+
+    /// Exact cell keys: integer cell coordinates from the box of the active nodes, 21 bits
+    /// each.
+    void frame(const State& s, const std::vector<index_t>& active_nodes) {
+        if (!active_nodes.empty())
+            for (int d = 0; d < 3; ++d) {
+                origin[d] = std::numeric_limits<double>::infinity();
+                double top = -origin[d];
+                for (auto i : active_nodes) {
+                    origin[d] = std::min(origin[d], s.x[3 * i + d]);
+                    top = std::max(top, s.x[3 * i + d]);
+                }
+                if ((top - origin[d]) / reach > double(1 << 20))
+                    throw NumericalError(fmt::format(
+                        "contact search: the scene spans {:.3g} m, over 2^20 contact cells of "
+                        "{:.3g} m (did a node fly away?)",
+                        top - origin[d], reach));
+                origin[d] -= reach; // keeps every cell coordinate >= 1, so neighbours >= 0
+            }
+        const bool flat = [&] {
+            for (auto i : active_nodes)
+                if (s.x[3 * i + 2] != 0.0)
+                    return false;
+            return true;
+        }();
+        zr = flat ? 0 : 1;
+    }
+
+    void fill(const State& s, const std::vector<index_t>& active_nodes) {
+        keyed.resize(active_nodes.size());
+        for (std::size_t a = 0; a < active_nodes.size(); ++a)
+            keyed[a] = {cell_of(&s.x[3 * active_nodes[a]], 0, 0, 0), active_nodes[a]};
+        std::sort(keyed.begin(), keyed.end());
+        cells.reserve(keyed.size() / 2 + 1);
+        for (std::size_t a = 0; a < keyed.size();) {
+            std::size_t e = a;
+            std::int32_t body = s.body[static_cast<std::size_t>(keyed[a].second)];
+            while (e < keyed.size() && keyed[e].first == keyed[a].first) {
+                if (s.body[static_cast<std::size_t>(keyed[e].second)] != body)
+                    body = -1;
+                ++e;
+            }
+            cells.emplace(keyed[a].first, Cell{a, e, body, false});
+            a = e;
+        }
+    }
+
+    /// Exact skip: a candidate j of node i lies within `reach` of it, so in i's cell or one of
+    /// its 3^d neighbours. When all of them hold nodes of i's own body only (a grain's inside,
+    /// away from every other grain), i has no candidate and its cells need not be scanned.
+    void mark_quiet(const State& s) {
+        for (auto& [key, c] : cells) {
+            if (c.body < 0)
+                continue;
+            const double* x = &s.x[3 * static_cast<std::size_t>(keyed[c.begin].second)];
+            bool quiet = true;
+            for (int dx = -1; dx <= 1 && quiet; ++dx)
+                for (int dy = -1; dy <= 1 && quiet; ++dy)
+                    for (int dz = -zr; dz <= zr && quiet; ++dz) {
+                        auto it = cells.find(cell_of(x, dx, dy, dz));
+                        quiet = it == cells.end() || it->second.body == c.body;
+                    }
+            c.quiet = quiet;
+        }
+    }
+};
+} // namespace
+
+std::vector<std::uint8_t> ContactList::near_bodies(const State& s, double reach) const {
     // Broad phase: body boxes in current configuration; keep bodies near another body they
     // have a contact law with.
+    const std::size_t nb = body_offsets_.size() - 1;
     std::vector<double> lo(3 * nb, std::numeric_limits<double>::infinity()),
         hi(3 * nb, -std::numeric_limits<double>::infinity());
     for (std::size_t b = 0; b < nb; ++b)
@@ -226,6 +326,38 @@ void ContactList::rebuild(const State& s) {
                 near[a] = near[b] = 1;
         }
     }
+    return near;
+}
+
+void ContactList::store_rows(std::size_t n, const std::vector<std::vector<index_t>>& rows,
+                             const std::vector<std::vector<std::int32_t>>& laws) {
+    offsets_.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+        offsets_[i + 1] = offsets_[i] + static_cast<model::offset_t>(rows[i].size());
+    neighbor_.clear();
+    law_.clear();
+    neighbor_.reserve(static_cast<std::size_t>(offsets_.back()));
+    law_.reserve(static_cast<std::size_t>(offsets_.back()));
+    for (std::size_t i = 0; i < n; ++i) {
+        // Sorted rows: the force sum order is independent of thread count and hash layout.
+        std::vector<std::size_t> idx(rows[i].size());
+        for (std::size_t k = 0; k < idx.size(); ++k)
+            idx[k] = k;
+        std::sort(idx.begin(), idx.end(), [&](auto a, auto b) { return rows[i][a] < rows[i][b]; });
+        for (auto k : idx) {
+            neighbor_.push_back(rows[i][k]);
+            law_.push_back(laws[i][k]);
+        }
+    }
+}
+
+void ContactList::rebuild(const State& s) {
+    ++rebuilds_;
+    built_ = true;
+    x_build_ = s.x;
+    const std::size_t nb = body_offsets_.size() - 1;
+    const double reach = rc_max_ + skin_;
+    const auto near = near_bodies(s, reach);
     // Cell list over EVERY node of the near bodies, cell size = reach. No node is left out by
     // its depth in the grain: a node deep inside a grain can meet a node of another grain that
     // was pressed deep into it, and leaving it out lets grains tunnel through each other.
@@ -234,75 +366,13 @@ void ContactList::rebuild(const State& s) {
         if (near[b])
             for (auto i = body_offsets_[b]; i < body_offsets_[b + 1]; ++i)
                 active_nodes.push_back(static_cast<index_t>(i));
-    // Exact cell keys: integer cell coordinates from the box of the active nodes, 21 bits each.
-    double origin[3] = {0, 0, 0};
-    if (!active_nodes.empty())
-        for (int d = 0; d < 3; ++d) {
-            origin[d] = std::numeric_limits<double>::infinity();
-            double top = -origin[d];
-            for (auto i : active_nodes) {
-                origin[d] = std::min(origin[d], s.x[3 * i + d]);
-                top = std::max(top, s.x[3 * i + d]);
-            }
-            if ((top - origin[d]) / reach > double(1 << 20))
-                throw NumericalError(fmt::format(
-                    "contact search: the scene spans {:.3g} m, over 2^20 contact cells of {:.3g} "
-                    "m (did a node fly away?)",
-                    top - origin[d], reach));
-            origin[d] -= reach; // keeps every cell coordinate >= 1, so neighbours >= 0
-        }
-    auto cell_of = [&](const double* x, int dx, int dy, int dz) {
-        const auto cx = static_cast<std::int64_t>((x[0] - origin[0]) / reach) + dx;
-        const auto cy = static_cast<std::int64_t>((x[1] - origin[1]) / reach) + dy;
-        const auto cz = static_cast<std::int64_t>((x[2] - origin[2]) / reach) + dz;
-        return (cx << 42) | (cy << 21) | cz;
-    };
-    const bool flat = [&] {
-        for (auto i : active_nodes)
-            if (s.x[3 * i + 2] != 0.0)
-                return false;
-        return true;
-    }();
-    const int zr = flat ? 0 : 1;
-    // Cells sorted by key: (key, node) pairs, one sort, no per-cell allocation.
-    std::vector<std::pair<std::int64_t, index_t>> keyed(active_nodes.size());
-    for (std::size_t a = 0; a < active_nodes.size(); ++a)
-        keyed[a] = {cell_of(&s.x[3 * active_nodes[a]], 0, 0, 0), active_nodes[a]};
-    std::sort(keyed.begin(), keyed.end());
-    struct Cell {
-        std::size_t begin, end; ///< range in `keyed`
-        std::int32_t body;      ///< the one body with nodes in the cell, or -1 if several
-        bool quiet;             ///< this cell and its neighbours hold nodes of `body` only
-    };
-    std::unordered_map<std::int64_t, Cell> cells;
-    cells.reserve(keyed.size() / 2 + 1);
-    for (std::size_t a = 0; a < keyed.size();) {
-        std::size_t e = a;
-        std::int32_t body = s.body[static_cast<std::size_t>(keyed[a].second)];
-        while (e < keyed.size() && keyed[e].first == keyed[a].first) {
-            if (s.body[static_cast<std::size_t>(keyed[e].second)] != body)
-                body = -1;
-            ++e;
-        }
-        cells.emplace(keyed[a].first, Cell{a, e, body, false});
-        a = e;
-    }
-    // Exact skip: a candidate j of node i lies within `reach` of it, so in i's cell or one of
-    // its 3^d neighbours. When all of them hold nodes of i's own body only (a grain's inside,
-    // away from every other grain), i has no candidate and its cells need not be scanned.
-    for (auto& [key, c] : cells) {
-        if (c.body < 0)
-            continue;
-        const double* x = &s.x[3 * static_cast<std::size_t>(keyed[c.begin].second)];
-        bool quiet = true;
-        for (int dx = -1; dx <= 1 && quiet; ++dx)
-            for (int dy = -1; dy <= 1 && quiet; ++dy)
-                for (int dz = -zr; dz <= zr && quiet; ++dz) {
-                    auto it = cells.find(cell_of(x, dx, dy, dz));
-                    quiet = it == cells.end() || it->second.body == c.body;
-                }
-        c.quiet = quiet;
-    }
+    CellGrid grid;
+    grid.reach = reach;
+    grid.frame(s, active_nodes);
+    grid.fill(s, active_nodes);
+    grid.mark_quiet(s);
+    const auto& keyed = grid.keyed;
+    const int zr = grid.zr;
     std::vector<std::vector<index_t>> rows(s.n);
     std::vector<std::vector<std::int32_t>> laws(s.n);
     const double r2max = reach * reach;
@@ -313,14 +383,14 @@ void ContactList::rebuild(const State& s) {
         if (!owned_[static_cast<std::size_t>(i)])
             continue; // rows of owned nodes only; the cells hold every active node
         const double* xi = &s.x[3 * i];
-        if (cells.find(keyed[static_cast<std::size_t>(a)].first)->second.quiet)
+        if (grid.cells.find(keyed[static_cast<std::size_t>(a)].first)->second.quiet)
             continue;
         const auto gi = body_group_[static_cast<std::size_t>(s.body[i])];
         for (int dx = -1; dx <= 1; ++dx)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dz = -zr; dz <= zr; ++dz) {
-                    auto it = cells.find(cell_of(xi, dx, dy, dz));
-                    if (it == cells.end())
+                    auto it = grid.cells.find(grid.cell_of(xi, dx, dy, dz));
+                    if (it == grid.cells.end())
                         continue;
                     for (auto q = it->second.begin; q < it->second.end; ++q) {
                         const index_t j = keyed[q].second;
@@ -340,24 +410,7 @@ void ContactList::rebuild(const State& s) {
                     }
                 }
     }
-    offsets_.assign(s.n + 1, 0);
-    for (std::size_t i = 0; i < s.n; ++i)
-        offsets_[i + 1] = offsets_[i] + static_cast<model::offset_t>(rows[i].size());
-    neighbor_.clear();
-    law_.clear();
-    neighbor_.reserve(static_cast<std::size_t>(offsets_.back()));
-    law_.reserve(static_cast<std::size_t>(offsets_.back()));
-    for (std::size_t i = 0; i < s.n; ++i) {
-        // Sorted rows: the force sum order is independent of thread count and hash layout.
-        std::vector<std::size_t> idx(rows[i].size());
-        for (std::size_t k = 0; k < idx.size(); ++k)
-            idx[k] = k;
-        std::sort(idx.begin(), idx.end(), [&](auto a, auto b) { return rows[i][a] < rows[i][b]; });
-        for (auto k : idx) {
-            neighbor_.push_back(rows[i][k]);
-            law_.push_back(laws[i][k]);
-        }
-    }
+    store_rows(s.n, rows, laws);
 }
 
 std::int64_t ContactList::add_forces(State& s, double& energy,

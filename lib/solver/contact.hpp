@@ -82,6 +82,11 @@ class ContactList {
 
   private:
     void rebuild(const State& s);
+    /// Broad phase: which bodies are near another body they have a contact law with.
+    std::vector<std::uint8_t> near_bodies(const State& s, double reach) const;
+    /// The candidate rows (node -> neighbours, laws) as sorted CSR.
+    void store_rows(std::size_t n, const std::vector<std::vector<index_t>>& rows,
+                    const std::vector<std::vector<std::int32_t>>& laws);
     std::int64_t add_forces_impl(State& s, double& energy,
                                  std::vector<BodyPairForce>* normal) const;
 

@@ -81,103 +81,15 @@ class BondOperator {
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t d = 0; d < 3; ++d)
                 w_[3 * i + d] = x[3 * i + d] * scale_[i];
-        const double* X = s_.x.data();
-        const double* vol = s_.vol.data();
-        const double* w = w_.data();
-        const double dd = law_.dimension;
-        auto dir = [&](std::size_t i, std::size_t j, double e[3], double& l) {
-            double sq = 0;
-            for (std::size_t c = 0; c < 3; ++c) {
-                e[c] = X[3 * j + c] - X[3 * i + c];
-                sq += e[c] * e[c];
-            }
-            l = std::sqrt(sq);
-            for (std::size_t c = 0; c < 3; ++c)
-                e[c] /= l;
-        };
-        auto proj = [&](std::size_t i, std::size_t j, const double e[3]) {
-            return e[0] * (w[3 * j] - w[3 * i]) + e[1] * (w[3 * j + 1] - w[3 * i + 1]) +
-                   e[2] * (w[3 * j + 2] - w[3 * i + 2]);
-        };
         const std::size_t nr = s_.rows.size();
-        if (law_.any_lps) {
-            // Pass 1: the dilatation change of every LPS row, then its ghosts.
-            for (std::size_t a = 0; a < nr; ++a) {
-                const auto i = static_cast<std::size_t>(s_.rows[a]);
-                if (!law_.lps[static_cast<std::size_t>(s_.body[i])] || scale_[i] == 0) {
-                    dth_[i] = dq_[i] = 0;
-                    continue;
-                }
-                double th = 0;
-                for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
-                    const auto kk = static_cast<std::size_t>(k);
-                    if (!b_.alive[kk])
-                        continue;
-                    const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
-                    double e[3], l;
-                    dir(i, j, e, l);
-                    th += b_.omega[kk] * b_.xi[kk] * proj(i, j, e) * b_.beta[kk] * vol[j];
-                }
-                dth_[i] = dd * th / law_.m[i];
-                dq_[i] = g_[i] * dth_[i] / dd;
-            }
-            dom_.exchange({&dth_, &dq_}, 1);
-        }
+        if (law_.any_lps)
+            dilatation_change(nr);
+        const double* vol = s_.vol.data();
         for (std::size_t a = 0; a < nr; ++a) {
             const auto i = static_cast<std::size_t>(s_.rows[a]);
             double f[3] = {0, 0, 0};
-            if (scale_[i] > 0) {
-                const auto body = static_cast<std::size_t>(s_.body[i]);
-                const double kr = law_.krep[body];
-                for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
-                    const auto kk = static_cast<std::size_t>(k);
-                    const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
-                    double e[3], l, t = 0;
-                    if (law_.rnp[body]) {
-                        // Reference direction (rnp kernel: f = a X, S = X . eta / r^2); at S = 0.
-                        double sq = 0;
-                        for (std::size_t c = 0; c < 3; ++c) {
-                            e[c] = s_.x0[3 * j + c] - s_.x0[3 * i + c];
-                            sq += e[c] * e[c];
-                        }
-                        l = std::sqrt(sq);
-                        for (double& c : e)
-                            c /= l;
-                        t = 4.0 * b_.omega[kk] * law_.rnp_c[body] * law_.rnp_beta[body] /
-                            law_.rnp_inv[body] * b_.beta[kk] * vol[j] / b_.xi[kk] * proj(i, j, e);
-                    } else {
-                        dir(i, j, e, l);
-                        const double de = proj(i, j, e);
-                        if (!b_.alive[kk]) {
-                            // The broken-bond repulsion (spec 4.7) once the pair comes closer
-                            // than r_rep; a PMB bond counts at the larger of the two stiffnesses
-                            // (bonds may still break during the run).
-                            double k_pair = kr * vol[j];
-                            if (!law_.lps[body])
-                                k_pair = std::max(k_pair,
-                                                  law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk]);
-                            t = k_pair * de;
-                        } else if (law_.lps[body]) {
-                            const double kap = law_.kappa[body], mu = law_.mu[body];
-                            const double xi = b_.xi[kk];
-                            const double t_ij =
-                                b_.omega[kk] * (dd * kap * dth_[i] / law_.m[i] * xi +
-                                                law_.alpha * mu / law_.m[i] *
-                                                    (de - dth_[i] * xi / dd - dq_[i] * xi));
-                            const double t_ji =
-                                b_.omega[kk] * (dd * kap * dth_[j] / law_.m[j] * xi +
-                                                law_.alpha * mu / law_.m[j] *
-                                                    (de - dth_[j] * xi / dd - dq_[j] * xi));
-                            t = (t_ij + t_ji) * b_.beta[kk] * vol[j];
-                        } else {
-                            t = law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk] * de;
-                        }
-                    }
-                    f[0] += t * e[0];
-                    f[1] += t * e[1];
-                    f[2] += t * e[2];
-                }
-            }
+            if (scale_[i] > 0)
+                row_force(a, i, f);
             // Nodal force V_i f_i, scaled by D^-1/2; minus: K = -df/du is positive.
             const double sc = -vol[i] * scale_[i];
             for (std::size_t c = 0; c < 3; ++c)
@@ -185,6 +97,109 @@ class BondOperator {
         }
     }
 
+  private:
+    /// Unit vector e from i to j in the current positions, and the length l.
+    void dir(std::size_t i, std::size_t j, double e[3], double& l) const {
+        const double* X = s_.x.data();
+        double sq = 0;
+        for (std::size_t c = 0; c < 3; ++c) {
+            e[c] = X[3 * j + c] - X[3 * i + c];
+            sq += e[c] * e[c];
+        }
+        l = std::sqrt(sq);
+        for (std::size_t c = 0; c < 3; ++c)
+            e[c] /= l;
+    }
+    /// The relative displacement w_j - w_i along e.
+    double proj(std::size_t i, std::size_t j, const double e[3]) const {
+        const double* w = w_.data();
+        return e[0] * (w[3 * j] - w[3 * i]) + e[1] * (w[3 * j + 1] - w[3 * i + 1]) +
+               e[2] * (w[3 * j + 2] - w[3 * i + 2]);
+    }
+    /// Pass 1: the dilatation change of every LPS row, then its ghosts.
+    void dilatation_change(std::size_t nr) {
+        const double* vol = s_.vol.data();
+        const double dd = law_.dimension;
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto i = static_cast<std::size_t>(s_.rows[a]);
+            if (!law_.lps[static_cast<std::size_t>(s_.body[i])] || scale_[i] == 0) {
+                dth_[i] = dq_[i] = 0;
+                continue;
+            }
+            double th = 0;
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                if (!b_.alive[kk])
+                    continue;
+                const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
+                double e[3], l;
+                dir(i, j, e, l);
+                th += b_.omega[kk] * b_.xi[kk] * proj(i, j, e) * b_.beta[kk] * vol[j];
+            }
+            dth_[i] = dd * th / law_.m[i];
+            dq_[i] = g_[i] * dth_[i] / dd;
+        }
+        dom_.exchange({&dth_, &dq_}, 1);
+    }
+    /// The force density f of row a (node i) for the displacement w.
+    void row_force(std::size_t a, std::size_t i, double f[3]) const {
+        const double* vol = s_.vol.data();
+        const auto body = static_cast<std::size_t>(s_.body[i]);
+        for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
+            double e[3], l, t = 0;
+            if (law_.rnp[body]) {
+                // Reference direction (rnp kernel: f = a X, S = X . eta / r^2); at S = 0.
+                double sq = 0;
+                for (std::size_t c = 0; c < 3; ++c) {
+                    e[c] = s_.x0[3 * j + c] - s_.x0[3 * i + c];
+                    sq += e[c] * e[c];
+                }
+                l = std::sqrt(sq);
+                for (double& c : e)
+                    c /= l;
+                t = 4.0 * b_.omega[kk] * law_.rnp_c[body] * law_.rnp_beta[body] /
+                    law_.rnp_inv[body] * b_.beta[kk] * vol[j] / b_.xi[kk] * proj(i, j, e);
+            } else {
+                dir(i, j, e, l);
+                t = pair_stiffness(i, j, kk, body, proj(i, j, e));
+            }
+            f[0] += t * e[0];
+            f[1] += t * e[1];
+            f[2] += t * e[2];
+        }
+    }
+    /// The bond's force for the relative displacement de along it (PMB, LPS, or the broken-bond
+    /// repulsion).
+    double pair_stiffness(std::size_t i, std::size_t j, std::size_t kk, std::size_t body,
+                          double de) const {
+        const double* vol = s_.vol.data();
+        const double dd = law_.dimension;
+        if (!b_.alive[kk]) {
+            // The broken-bond repulsion (spec 4.7) once the pair comes closer
+            // than r_rep; a PMB bond counts at the larger of the two stiffnesses
+            // (bonds may still break during the run).
+            double k_pair = law_.krep[body] * vol[j];
+            if (!law_.lps[body])
+                k_pair = std::max(k_pair, law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk]);
+            return k_pair * de;
+        }
+        if (law_.lps[body]) {
+            const double kap = law_.kappa[body], mu = law_.mu[body];
+            const double xi = b_.xi[kk];
+            const double t_ij = b_.omega[kk] * (dd * kap * dth_[i] / law_.m[i] * xi +
+                                                law_.alpha * mu / law_.m[i] *
+                                                    (de - dth_[i] * xi / dd - dq_[i] * xi));
+            const double t_ji = b_.omega[kk] * (dd * kap * dth_[j] / law_.m[j] * xi +
+                                                law_.alpha * mu / law_.m[j] *
+                                                    (de - dth_[j] * xi / dd - dq_[j] * xi));
+            return (t_ij + t_ji) * b_.beta[kk] * vol[j];
+        }
+        return law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk] * de;
+    }
+
+  public:
     double dot(const std::vector<double>& p, const std::vector<double>& q) const {
         double sum = 0;
         for (auto row : s_.rows) {

@@ -166,8 +166,18 @@ void WallContact::rebuild(const State& s) {
     }
 }
 
-void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce>* normal) const {
-    const std::size_t nw = walls_.size();
+namespace {
+/// Every wall's pose at time t, and whether it is there.
+void poses(const std::vector<model::Wall>& walls, double t, std::vector<WallPose>& pose,
+           std::vector<std::uint8_t>& present) {
+    for (const auto& w : walls) {
+        pose.push_back(wall_pose(w, t));
+        present.push_back(model::wall_present(w, t) ? 1 : 0);
+    }
+}
+
+/// An empty load of nw walls.
+void clear(WallLoad& load, std::size_t nw) {
     load.force.assign(3 * nw, 0.0);
     load.moment.assign(3 * nw, 0.0);
     load.touching = 0;
@@ -175,14 +185,48 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     load.beyond = 0;
     load.beyond_node = -1;
     load.beyond_wall = -1;
+}
+
+/// Adds the force F a wall receives at r from its centre to its force and moment (fm: 6 per
+/// wall).
+void add_reaction(double* fm, const double* F, const double* r) {
+    fm[0] += F[0];
+    fm[1] += F[1];
+    fm[2] += F[2];
+    fm[3] += r[1] * F[2] - r[2] * F[1];
+    fm[4] += r[2] * F[0] - r[0] * F[2];
+    fm[5] += r[0] * F[1] - r[1] * F[0];
+}
+
+/// The walls' forces and moments (fm, 6 per wall) into the load; the records sorted.
+void finish(WallLoad& load, const std::vector<double>& fm, std::vector<BodyWallForce>& records,
+            std::vector<BodyWallForce>* normal) {
+    const std::size_t nw = fm.size() / 6;
+    for (std::size_t w = 0; w < nw; ++w)
+        for (int q = 0; q < 3; ++q) {
+            load.force[3 * w + static_cast<std::size_t>(q)] =
+                fm[6 * w + static_cast<std::size_t>(q)];
+            load.moment[3 * w + static_cast<std::size_t>(q)] =
+                fm[6 * w + 3 + static_cast<std::size_t>(q)];
+        }
+    if (normal) {
+        // Deterministic order whatever the thread schedule (bitwise restarts).
+        std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) {
+            return a.node != b.node ? a.node < b.node : a.wall < b.wall;
+        });
+        *normal = std::move(records);
+    }
+}
+} // namespace
+
+void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce>* normal) const {
+    const std::size_t nw = walls_.size();
+    clear(load, nw);
     if (!active_ || nodes_.empty())
         return;
     std::vector<WallPose> pose;
     std::vector<std::uint8_t> present;
-    for (const auto& w : walls_) {
-        pose.push_back(wall_pose(w, s.time));
-        present.push_back(model::wall_present(w, s.time) ? 1 : 0);
-    }
+    poses(walls_, s.time, pose, present);
     const auto nn = static_cast<std::int64_t>(nodes_.size());
     std::vector<double> fm(6 * nw, 0.0); // force then moment, per wall
     double* fmp = fm.data();
@@ -232,12 +276,7 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
                 const double F[3] = {-f[0] * s.vol[i], -f[1] * s.vol[i], -f[2] * s.vol[i]};
                 const auto& c = pose[w].centre;
                 const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
-                fmp[6 * w + 0] += F[0];
-                fmp[6 * w + 1] += F[1];
-                fmp[6 * w + 2] += F[2];
-                fmp[6 * w + 3] += r[1] * F[2] - r[2] * F[1];
-                fmp[6 * w + 4] += r[2] * F[0] - r[0] * F[2];
-                fmp[6 * w + 5] += r[0] * F[1] - r[1] * F[0];
+                add_reaction(fmp + 6 * w, F, r);
                 energy +=
                     0.5 * law.stiffness * (law.radius - d) * (law.radius - d) * s.vol[i] * s.vol[i];
                 ++touching;
@@ -255,23 +294,10 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
             }
         }
     }
-    for (std::size_t w = 0; w < nw; ++w)
-        for (int q = 0; q < 3; ++q) {
-            load.force[3 * w + static_cast<std::size_t>(q)] =
-                fm[6 * w + static_cast<std::size_t>(q)];
-            load.moment[3 * w + static_cast<std::size_t>(q)] =
-                fm[6 * w + 3 + static_cast<std::size_t>(q)];
-        }
     load.touching = touching;
     load.energy = energy;
     load.beyond = beyond;
-    if (normal) {
-        // Deterministic order whatever the thread schedule (bitwise restarts).
-        std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) {
-            return a.node != b.node ? a.node < b.node : a.wall < b.wall;
-        });
-        *normal = std::move(records);
-    }
+    finish(load, fm, records, normal);
 }
 
 } // namespace pd::solver

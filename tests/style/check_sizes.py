@@ -3,9 +3,9 @@
 """Size limits of issue 16: no file under lib/ above 600 lines, no function above 80 lines.
 
 Run as `check_sizes.py [repo]`; exit 1 when a file or function over the limit is found, listing
-each. Files in REPORT_ONLY are listed but do not fail the check: lib/solver/* and
-lib/pipeline/solve.cpp are being split by other work (issue 16 items 1-2); remove them from
-REPORT_ONLY once they are. KNOWN_FUNCTIONS are the functions over 80 lines in files outside the
+each. Files in REPORT_ONLY are listed but do not fail the check: lib/pipeline/solve.cpp is being
+split by other work (issue 16 item 2); remove it from REPORT_ONLY once it is (lib/solver/ was
+split into the integrator and its force terms, item 1, and is enforced). KNOWN_FUNCTIONS are the functions over 80 lines in files outside the
 first split (issue 16, item 3 and the file sizes): reported only until each is broken into named
 steps; remove an entry when its function is split (a new long function anywhere else fails).
 
@@ -21,8 +21,12 @@ from pathlib import Path
 
 MAX_FILE = 600
 MAX_FUNCTION = 80
-REPORT_ONLY = ("lib/solver/", "lib/pipeline/solve.cpp")
+REPORT_ONLY = ("lib/pipeline/solve.cpp",)
 KNOWN_FUNCTIONS = {
+    # The bond kernels: being optimised by other work (issue 15's performance follow-up); split
+    # them into named steps once that lands.
+    ("lib/solver/bond_forces.cpp", "kernel"),
+    ("lib/solver/bond_forces.cpp", "lps_kernel"),
     ("lib/geometry/packing.cpp", "random_pack"),
     ("lib/model/quadrature.cpp", "quadrature_factors"),
     ("lib/model/slots.cpp", "apply_slots"),

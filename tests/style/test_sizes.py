@@ -2,7 +2,7 @@
 """Issue 16's size limits (tests/style/check_sizes.py): no file under lib/ above 600 lines, no
 function above 80 lines. The checker passes on the repository, and on a small fake tree it finds
 exactly the file and the function over the limits, with their line counts, while the report-only
-paths (lib/solver/, lib/pipeline/solve.cpp) are listed without failing."""
+path (lib/pipeline/solve.cpp) is listed without failing."""
 
 import subprocess
 import sys
@@ -48,11 +48,11 @@ def test_braces_in_comments_and_strings_ignored():
 def fake(tmp_path):
     lib = tmp_path / "lib"
     (lib / "core").mkdir(parents=True)
-    (lib / "solver").mkdir()
+    (lib / "pipeline").mkdir()
     (lib / "core" / "ok.cpp").write_text(function("short_one", 70))   # 74 lines
     (lib / "core" / "long.cpp").write_text(function("long_one", 79))  # 83 lines
     (lib / "core" / "big.hpp").write_text("// x\n" * 601)
-    (lib / "solver" / "solver.cpp").write_text("// x\n" * 700 + function("step", 90))
+    (lib / "pipeline" / "solve.cpp").write_text("// x\n" * 700 + function("step", 90))
     return tmp_path
 
 
@@ -62,8 +62,8 @@ def test_over_the_limits_fail_and_report_only_do_not(fake):
     fails = [l for l in out.splitlines() if l.startswith("FAIL")]
     assert fails == ["FAIL lib/core/big.hpp: 601 lines (limit 600)",
                      "FAIL lib/core/long.cpp:1: function long_one is 83 lines (limit 80)"]
-    assert "lib/solver/solver.cpp: 794 lines" in out
-    assert "lib/solver/solver.cpp:701: function step is 94 lines" in out
+    assert "lib/pipeline/solve.cpp: 794 lines" in out
+    assert "lib/pipeline/solve.cpp:701: function step is 94 lines" in out
     assert "short_one" not in out
     assert out.splitlines()[-1] == "4 files checked: 2 over the limits, 2 reported only"
 

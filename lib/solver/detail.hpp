@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// The solver's own steps on the shared Forces (internal to lib/solver): the bond rows of this
+// rank, the conditions, the pre-cracks, the external power.
+#pragma once
+
+#include "solver/forces.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace pd::solver::detail {
+
+/// The rows `rows` of a whole bond-list array (CSR `whole`), concatenated: this rank's CSR.
+template <class T>
+std::vector<T> rows_of(const std::vector<T>& from, const std::vector<offset_t>& whole,
+                       const std::vector<index_t>& rows) {
+    std::vector<T> out;
+    for (auto row : rows) {
+        const auto i = static_cast<std::size_t>(row);
+        out.insert(out.end(), from.begin() + whole[i], from.begin() + whole[i + 1]);
+    }
+    return out;
+}
+
+/// Writes this rank's CSR rows (`local`, over `rows`) into their places of a whole-list array.
+template <class T>
+void put_rows(const std::vector<T>& from, const std::vector<offset_t>& local,
+              const std::vector<index_t>& rows, const std::vector<offset_t>& whole,
+              std::vector<T>& to) {
+    for (std::size_t a = 0; a < rows.size(); ++a)
+        std::copy(from.begin() + local[a], from.begin() + local[a + 1],
+                  to.begin() + whole[static_cast<std::size_t>(rows[a])]);
+}
+
+// bond_rows.cpp
+/// Per-body constants of the bond laws (f.law), from the materials (constructor).
+void law_constants(Forces& f);
+/// This rank's rows of the bond list (reference lengths, factors, influence; alive = 1), the
+/// neighbour lists from the model or from `row_neighbors` (then emptied).
+void build_bonds(Forces& f, std::vector<index_t>& row_neighbors);
+/// Ghosts for the bond neighbours owned elsewhere (collective).
+void set_bond_ghosts(Forces& f);
+/// Surface-correction factors and LPS weighted volumes of the rows and their ghosts
+/// (collective; after set_bond_ghosts()).
+void family_factors(Forces& f);
+/// Every node's neighbour list (the model's, or gathered from the ranks; collective).
+std::vector<index_t> global_neighbors(const Forces& f);
+/// Broken bond ends in this rank's rows.
+std::int64_t count_broken(const Forces& f);
+
+// conditions.cpp
+/// Per condition: the x and y range of its nodes (space functions); marks the prescribed
+/// components and sizes fbc when some condition is a force.
+void condition_boxes(Forces& f);
+/// Sets u, v, x of prescribed components at time s.time (spec 5.6).
+void apply_displacements(Forces& f);
+/// Breaks the bonds that cross a pre-crack segment.
+void break_precracks(Forces& f);
+/// Power of gravity, force conditions, prescribed displacements and moving walls (W).
+double external_power(const Forces& f);
+
+} // namespace pd::solver::detail

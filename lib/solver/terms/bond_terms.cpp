@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: MIT
+#include "solver/terms/bond_terms.hpp"
+
+#include "solver/stability.hpp"
+
+namespace pd::solver {
+
+void BondTerm::limit_dt(const Forces& f, StableDt& dt) const {
+    if (dt.lanczos_steps > 0)
+        return;
+    const auto spec = bond_spectrum(f.s, f.b, f.law, *f.dom);
+    dt.pd = critical_dt(spec.lambda());
+    dt.lanczos_steps = spec.iterations;
+}
+
+} // namespace pd::solver
