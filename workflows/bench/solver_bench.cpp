@@ -7,7 +7,8 @@
 //   2. whole steps: node-steps per second (per process CPU second, and per wall second) at 1 and
 //      2 threads, and the share of a step spent outside the bond and contact loops;
 //   3. scaling: CPU time per node-step of a 2D PMB plate from 1e4 nodes up.
-// Usage: solver_bench [--quick] [--runs N]   (quick: smaller sizes, for a smoke run)
+// Usage: solver_bench [--quick] [--runs N] [--kernels]
+//   (quick: smaller sizes, for a smoke run; kernels: section 1 only)
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
 #include "solver/solver.hpp"
@@ -128,11 +129,13 @@ Steps run_steps(solver::Solver& s, int steps) {
 } // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
+    bool quick = false, kernels_only = false;
     int runs = 5;
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--quick") == 0)
             quick = true;
+        else if (std::strcmp(argv[a], "--kernels") == 0)
+            kernels_only = true;
         else if (std::strcmp(argv[a], "--runs") == 0 && a + 1 < argc)
             runs = std::max(1, std::atoi(argv[++a]));
     }
@@ -177,6 +180,8 @@ int main(int argc, char** argv) {
                        median(rate), ref, ratio);
         }
 
+    if (kernels_only)
+        return 0;
     fmt::print("\n## 2. Whole steps (process CPU time; wall for reference)\n\n");
     fmt::print("| scene | nodes | threads | steps | node-steps per CPU s | node-steps per wall s "
                "| share of the step outside bond and contact loops |\n");
