@@ -3,8 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pd::solver {
 
@@ -83,56 +87,92 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
     return {energy, broken, 0.0, 0.0};
 }
 
-/// Bonds per chunk of the split hot loops: the per-bond scalars of a chunk live in stack arrays
-/// between the vectorised pass (gather, sqrt, division) and the summing pass.
-constexpr int chunk = 64;
-
 /// PMB force of one row whose bonds are all intact, none breaking: the hot loop. Per bond one
 /// sqrt and one division, no branch; returns false (and leaves f_i alone) when a bond is broken
-/// or reaches its critical length, so the caller takes the general path. Two passes per chunk of
-/// bonds: the first has no loop-carried sum, so the compiler vectorises it (sqrtpd, divpd: the
-/// divider is the loop's bottleneck); the second sums in bond order, as a single loop would, so
-/// the force is bitwise the one of the single loop.
+/// or reaches its critical length xi (1 + s0) (`op` = 1 + s0 of the row's body: the product
+/// b.lc holds, without its load), so the caller takes the general path.
+/// Two lanes: bond k0 + 2m + L is summed in lane L, the odd last bond in lane 0, f_i is lane 0
+/// plus lane 1. With SSE2 the lanes are one 16-byte register (sqrtpd, divpd: the divider is the
+/// loop's bottleneck); elsewhere the same operations in the same order, so the force does not
+/// depend on the CPU (nor on the rank: a row is summed whole on one rank).
 template <bool Energy>
 inline bool pmb_row_intact(const double* x, std::int64_t i, const index_t* nb, const double* xi,
-                           const double* kb, const double* lc, const std::uint8_t* alive,
-                           offset_t k0, offset_t k1, double* fi, double& e_i) {
+                           const double* kb, double op, const std::uint8_t* alive, offset_t k0,
+                           offset_t k1, double* fi, double& e_i) {
     const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-    double f0 = 0, f1 = 0, f2 = 0, e = 0;
+    double f[2][3] = {{0, 0, 0}, {0, 0, 0}}, e[2] = {0, 0};
     int bad = 0;
-    alignas(64) double ab[chunk], ex[chunk];
-    for (offset_t c0 = k0; c0 < k1; c0 += chunk) {
-        const int nk = static_cast<int>(std::min<offset_t>(chunk, k1 - c0));
-        const index_t* nbc = nb + c0;
-        const double* xic = xi + c0;
-        const double* kbc = kb + c0;
-        const double* lcc = lc + c0;
-        const std::uint8_t* alc = alive + c0;
-        for (int t = 0; t < nk; ++t) {
-            const index_t j = nbc[t];
-            const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-            const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            const double ext = l - xic[t];
-            ab[t] = kbc[t] * ext / l;
-            ex[t] = ext;
-            bad |= static_cast<int>(l > lcc[t]) | static_cast<int>(alc[t] != 1);
-        }
-        for (int t = 0; t < nk; ++t) {
-            const index_t j = nbc[t];
-            const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-            f0 += ab[t] * d0;
-            f1 += ab[t] * d1;
-            f2 += ab[t] * d2;
+    // One bond into lane L, the operations of the SSE2 loop one lane at a time.
+    auto bond = [&](offset_t k, int L) {
+        const std::int64_t j = nb[k];
+        const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+        const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+        const double ext = l - xi[k];
+        const double ke = kb[k] * ext;
+        const double a = ke / l;
+        f[L][0] += a * d0;
+        f[L][1] += a * d1;
+        f[L][2] += a * d2;
+        if constexpr (Energy)
+            e[L] += ke * ext;
+        bad |= static_cast<int>(l > xi[k] * op) | static_cast<int>(alive[k] != 1);
+    };
+    offset_t k = k0;
+#if defined(__SSE2__)
+    {
+        __m128d F0 = _mm_setzero_pd(), F1 = _mm_setzero_pd(), F2 = _mm_setzero_pd();
+        __m128d E = _mm_setzero_pd(), B = _mm_setzero_pd();
+        const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
+        const __m128d OP = _mm_set1_pd(op);
+        for (; k + 1 < k1; k += 2) {
+            const double* pa = x + 3 * static_cast<std::int64_t>(nb[k]);
+            const double* pb = x + 3 * static_cast<std::int64_t>(nb[k + 1]);
+            const __m128d xa = _mm_loadu_pd(pa), xb = _mm_loadu_pd(pb);
+            const __m128d d0 = _mm_sub_pd(_mm_unpacklo_pd(xa, xb), X0);
+            const __m128d d1 = _mm_sub_pd(_mm_unpackhi_pd(xa, xb), X1);
+            const __m128d d2 = _mm_sub_pd(_mm_loadh_pd(_mm_load_sd(pa + 2), pb + 2), X2);
+            const __m128d r2 =
+                _mm_add_pd(_mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2));
+            const __m128d l = _mm_sqrt_pd(r2);
+            const __m128d x0 = _mm_loadu_pd(xi + k);
+            const __m128d ext = _mm_sub_pd(l, x0);
+            const __m128d ke = _mm_mul_pd(_mm_loadu_pd(kb + k), ext);
+            const __m128d a = _mm_div_pd(ke, l);
+            F0 = _mm_add_pd(F0, _mm_mul_pd(a, d0));
+            F1 = _mm_add_pd(F1, _mm_mul_pd(a, d1));
+            F2 = _mm_add_pd(F2, _mm_mul_pd(a, d2));
             if constexpr (Energy)
-                e += kbc[t] * ex[t] * ex[t];
+                E = _mm_add_pd(E, _mm_mul_pd(ke, ext));
+            B = _mm_or_pd(B, _mm_cmpgt_pd(l, _mm_mul_pd(x0, OP)));
+            std::uint16_t al;
+            std::memcpy(&al, alive + k, 2);
+            bad |= static_cast<int>(al != 0x0101);
         }
+        alignas(16) double t[2];
+        _mm_store_pd(t, F0);
+        f[0][0] = t[0], f[1][0] = t[1];
+        _mm_store_pd(t, F1);
+        f[0][1] = t[0], f[1][1] = t[1];
+        _mm_store_pd(t, F2);
+        f[0][2] = t[0], f[1][2] = t[1];
+        _mm_store_pd(t, E);
+        e[0] = t[0], e[1] = t[1];
+        bad |= _mm_movemask_pd(B);
     }
+#else
+    for (; k + 1 < k1; k += 2) {
+        bond(k, 0);
+        bond(k + 1, 1);
+    }
+#endif
+    if (k < k1)
+        bond(k, 0);
     if (bad)
         return false;
-    fi[0] = f0;
-    fi[1] = f1;
-    fi[2] = f2;
-    e_i = e;
+    fi[0] = f[0][0] + f[1][0];
+    fi[1] = f[0][1] + f[1][1];
+    fi[2] = f[0][2] + f[1][2];
+    e_i = e[0] + e[1];
     return true;
 }
 
@@ -161,7 +201,8 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
         }
         double fi[3] = {0, 0, 0};
         double e_i = 0, e_rel = 0, e_rep = 0;
-        if (!pmb_row_intact<Energy>(x, i, nb, xi, kb, lc, alive, off[a], off[a + 1], fi, e_i)) {
+        if (!pmb_row_intact<Energy>(x, i, nb, xi, kb, 1.0 + law.s0[body], alive, off[a], off[a + 1],
+                                    fi, e_i)) {
             // General path: broken bonds (repulsion), bonds breaking now.
             fi[0] = fi[1] = fi[2] = e_i = 0;
             const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
