@@ -261,6 +261,25 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     return {r.energy, r.broken, r.released, r.repulsion};
 }
 
+#if defined(__SSE2__)
+/// d = x_j - x_i of two bonds (neighbours ja, jb), component by component, lane 0 = ja.
+inline void gather2(const double* x, index_t ja, index_t jb, __m128d X0, __m128d X1, __m128d X2,
+                    __m128d& d0, __m128d& d1, __m128d& d2) {
+    const double* pa = x + 3 * static_cast<std::int64_t>(ja);
+    const double* pb = x + 3 * static_cast<std::int64_t>(jb);
+    const __m128d xa = _mm_loadu_pd(pa), xb = _mm_loadu_pd(pb);
+    d0 = _mm_sub_pd(_mm_unpacklo_pd(xa, xb), X0);
+    d1 = _mm_sub_pd(_mm_unpackhi_pd(xa, xb), X1);
+    d2 = _mm_sub_pd(_mm_loadh_pd(_mm_load_sd(pa + 2), pb + 2), X2);
+}
+inline void lanes(__m128d v, double& lane0, double& lane1) {
+    alignas(16) double t[2];
+    _mm_store_pd(t, v);
+    lane0 = t[0];
+    lane1 = t[1];
+}
+#endif
+
 template <bool Breakable, bool Energy>
 BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
     // Energy of node i (spec 1.3, reference weighted volume m_i fixed for the whole run):
@@ -306,18 +325,54 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
             return;
         }
         const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-        // Hot loop: every bond intact, none breaking (no branch).
-        double th = 0;
+        // Hot loop: every bond intact, none breaking (no branch). Two lanes as in the PMB row:
+        // bond k0 + 2m + L summed in lane L, the odd last one in lane 0.
+        double th2[2] = {0, 0};
         int bad = 0;
-        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
+        const double op = 1.0 + law.s0[body]; // breaks beyond xi (1 + s0), as b.lc
+        auto bond1 = [&](offset_t k, int L) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
             len[k] = l; // for pass 2: no second sqrt nor division there
             inv_len[k] = 1.0 / l;
-            th += wv[k] * xi[k] * (l - xi[k]);
-            bad |= (l > lc[k]) | (alive[k] != 1);
+            th2[L] += wv[k] * xi[k] * (l - xi[k]);
+            bad |= static_cast<int>(l > xi[k] * op) | static_cast<int>(alive[k] != 1);
+        };
+        offset_t k = off[a];
+        const offset_t k1 = off[a + 1];
+#if defined(__SSE2__)
+        {
+            const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
+            const __m128d OP = _mm_set1_pd(op), ONE = _mm_set1_pd(1.0);
+            __m128d TH = _mm_setzero_pd(), B = _mm_setzero_pd();
+            for (; k + 1 < k1; k += 2) {
+                __m128d d0, d1, d2;
+                gather2(x, nb[k], nb[k + 1], X0, X1, X2, d0, d1, d2);
+                const __m128d l = _mm_sqrt_pd(_mm_add_pd(
+                    _mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2)));
+                _mm_storeu_pd(len + k, l);
+                _mm_storeu_pd(inv_len + k, _mm_div_pd(ONE, l));
+                const __m128d x0 = _mm_loadu_pd(xi + k);
+                TH = _mm_add_pd(
+                    TH, _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(wv + k), x0), _mm_sub_pd(l, x0)));
+                B = _mm_or_pd(B, _mm_cmpgt_pd(l, _mm_mul_pd(x0, OP)));
+                std::uint16_t al;
+                std::memcpy(&al, alive + k, 2);
+                bad |= static_cast<int>(al != 0x0101);
+            }
+            lanes(TH, th2[0], th2[1]);
+            bad |= _mm_movemask_pd(B);
         }
+#else
+        for (; k + 1 < k1; k += 2) {
+            bond1(k, 0);
+            bond1(k + 1, 1);
+        }
+#endif
+        if (k < k1)
+            bond1(k, 0);
+        double th = th2[0] + th2[1];
         bool damaged = false;
         double mi = 0;
         if (bad) {
@@ -364,24 +419,73 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
         const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
         double fi[3] = {0, 0, 0}, wdev = 0, e_rep = 0, th_new = 0;
         bool fresh = false;
-        // Hot loop (no branch): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)).
+        // Hot loop (no branch): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)). Two lanes
+        // as in pass 1.
         const double pi = pshare[i], ti = theta[i] / dd;
+        double f2[2][3] = {{0, 0, 0}, {0, 0, 0}}, w2[2] = {0, 0};
         int bad = 0;
-        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
+        auto bond2 = [&](offset_t k, int L) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
             const double e = len[k] - xi[k];
             const double t = (a_i + ka[j]) * e + xi[k] * (pi + pshare[j]);
             const double ab = wv[k] * t * inv_len[k];
-            fi[0] += ab * d0;
-            fi[1] += ab * d1;
-            fi[2] += ab * d2;
+            f2[L][0] += ab * d0;
+            f2[L][1] += ab * d1;
+            f2[L][2] += ab * d2;
             if constexpr (Energy) {
                 const double ed = e - ti * xi[k];
-                wdev += wv[k] * ed * ed;
+                w2[L] += wv[k] * ed * ed;
             }
-            bad |= alive[k] != 1;
+            bad |= static_cast<int>(alive[k] != 1);
+        };
+        offset_t k = off[a];
+        const offset_t k1 = off[a + 1];
+#if defined(__SSE2__)
+        {
+            const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
+            const __m128d AI = _mm_set1_pd(a_i), PI = _mm_set1_pd(pi), TI = _mm_set1_pd(ti);
+            __m128d F0 = _mm_setzero_pd(), F1 = _mm_setzero_pd(), F2 = _mm_setzero_pd();
+            __m128d W = _mm_setzero_pd();
+            for (; k + 1 < k1; k += 2) {
+                const index_t ja = nb[k], jb = nb[k + 1];
+                __m128d d0, d1, d2;
+                gather2(x, ja, jb, X0, X1, X2, d0, d1, d2);
+                const __m128d x0 = _mm_loadu_pd(xi + k);
+                const __m128d e = _mm_sub_pd(_mm_loadu_pd(len + k), x0);
+                const __m128d t =
+                    _mm_add_pd(_mm_mul_pd(_mm_add_pd(AI, _mm_set_pd(ka[jb], ka[ja])), e),
+                               _mm_mul_pd(x0, _mm_add_pd(PI, _mm_set_pd(pshare[jb], pshare[ja]))));
+                const __m128d w = _mm_loadu_pd(wv + k);
+                const __m128d ab = _mm_mul_pd(_mm_mul_pd(w, t), _mm_loadu_pd(inv_len + k));
+                F0 = _mm_add_pd(F0, _mm_mul_pd(ab, d0));
+                F1 = _mm_add_pd(F1, _mm_mul_pd(ab, d1));
+                F2 = _mm_add_pd(F2, _mm_mul_pd(ab, d2));
+                if constexpr (Energy) {
+                    const __m128d ed = _mm_sub_pd(e, _mm_mul_pd(TI, x0));
+                    W = _mm_add_pd(W, _mm_mul_pd(_mm_mul_pd(w, ed), ed));
+                }
+                std::uint16_t al;
+                std::memcpy(&al, alive + k, 2);
+                bad |= static_cast<int>(al != 0x0101);
+            }
+            lanes(F0, f2[0][0], f2[1][0]);
+            lanes(F1, f2[0][1], f2[1][1]);
+            lanes(F2, f2[0][2], f2[1][2]);
+            lanes(W, w2[0], w2[1]);
         }
+#else
+        for (; k + 1 < k1; k += 2) {
+            bond2(k, 0);
+            bond2(k + 1, 1);
+        }
+#endif
+        if (k < k1)
+            bond2(k, 0);
+        fi[0] = f2[0][0] + f2[1][0];
+        fi[1] = f2[0][1] + f2[1][1];
+        fi[2] = f2[0][2] + f2[1][2];
+        wdev = w2[0] + w2[1];
         if (bad) { // general path: broken bonds (repulsion), bonds broken in pass 1
             fi[0] = fi[1] = fi[2] = wdev = 0;
             const double kr = law.krep[body], rr = law.rrep[body];
