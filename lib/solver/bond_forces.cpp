@@ -309,8 +309,8 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
     const double* mw = law.m.data();
     const double* wv = b.wv.data();
     const double* lc = b.lc.data();
-    double* len = b.len.data();
-    double* inv_len = b.inv_len.data();
+    double* bu = b.len.data();     // omega beta V_j e / l, pass 1 for pass 2
+    double* bv = b.inv_len.data(); // omega beta V_j xi / l
     double* pshare = law.lps_p.data();
     const double* ka = law.lps_a.data();
     const double* kt = law.lps_k.data();
@@ -334,9 +334,10 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            len[k] = l; // for pass 2: no second sqrt nor division there
-            inv_len[k] = 1.0 / l;
-            th2[L] += wv[k] * xi[k] * (l - xi[k]);
+            const double inv = 1.0 / l, wx = wv[k] * xi[k], e = l - xi[k];
+            bu[k] = wv[k] * e * inv; // for pass 2: no sqrt, division, nor e there
+            bv[k] = wx * inv;
+            th2[L] += wx * e;
             bad |= static_cast<int>(l > xi[k] * op) | static_cast<int>(alive[k] != 1);
         };
         offset_t k = off[a];
@@ -351,11 +352,12 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
                 gather2(x, nb[k], nb[k + 1], X0, X1, X2, d0, d1, d2);
                 const __m128d l = _mm_sqrt_pd(_mm_add_pd(
                     _mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2)));
-                _mm_storeu_pd(len + k, l);
-                _mm_storeu_pd(inv_len + k, _mm_div_pd(ONE, l));
-                const __m128d x0 = _mm_loadu_pd(xi + k);
-                TH = _mm_add_pd(
-                    TH, _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(wv + k), x0), _mm_sub_pd(l, x0)));
+                const __m128d inv = _mm_div_pd(ONE, l);
+                const __m128d x0 = _mm_loadu_pd(xi + k), w = _mm_loadu_pd(wv + k);
+                const __m128d wx = _mm_mul_pd(w, x0), e = _mm_sub_pd(l, x0);
+                _mm_storeu_pd(bu + k, _mm_mul_pd(_mm_mul_pd(w, e), inv));
+                _mm_storeu_pd(bv + k, _mm_mul_pd(wx, inv));
+                TH = _mm_add_pd(TH, _mm_mul_pd(wx, e));
                 B = _mm_or_pd(B, _mm_cmpgt_pd(l, _mm_mul_pd(x0, OP)));
                 std::uint16_t al;
                 std::memcpy(&al, alive + k, 2);
@@ -427,14 +429,13 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
         auto bond2 = [&](offset_t k, int L) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-            const double e = len[k] - xi[k];
-            const double t = (a_i + ka[j]) * e + xi[k] * (pi + pshare[j]);
-            const double ab = wv[k] * t * inv_len[k];
+            // omega t / l = (A_i + A_j) omega e / l + (P_i + P_j) omega xi / l
+            const double ab = (a_i + ka[j]) * bu[k] + (pi + pshare[j]) * bv[k];
             f2[L][0] += ab * d0;
             f2[L][1] += ab * d1;
             f2[L][2] += ab * d2;
-            if constexpr (Energy) {
-                const double ed = e - ti * xi[k];
+            if constexpr (Energy) { // e again, bitwise as in pass 1 (observation steps only)
+                const double ed = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) - xi[k] - ti * xi[k];
                 w2[L] += wv[k] * ed * ed;
             }
             bad |= static_cast<int>(alive[k] != 1);
@@ -451,19 +452,19 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
                 const index_t ja = nb[k], jb = nb[k + 1];
                 __m128d d0, d1, d2;
                 gather2(x, ja, jb, X0, X1, X2, d0, d1, d2);
-                const __m128d x0 = _mm_loadu_pd(xi + k);
-                const __m128d e = _mm_sub_pd(_mm_loadu_pd(len + k), x0);
-                const __m128d t =
-                    _mm_add_pd(_mm_mul_pd(_mm_add_pd(AI, _mm_set_pd(ka[jb], ka[ja])), e),
-                               _mm_mul_pd(x0, _mm_add_pd(PI, _mm_set_pd(pshare[jb], pshare[ja]))));
-                const __m128d w = _mm_loadu_pd(wv + k);
-                const __m128d ab = _mm_mul_pd(_mm_mul_pd(w, t), _mm_loadu_pd(inv_len + k));
+                const __m128d ab = _mm_add_pd(
+                    _mm_mul_pd(_mm_add_pd(AI, _mm_set_pd(ka[jb], ka[ja])), _mm_loadu_pd(bu + k)),
+                    _mm_mul_pd(_mm_add_pd(PI, _mm_set_pd(pshare[jb], pshare[ja])),
+                               _mm_loadu_pd(bv + k)));
                 F0 = _mm_add_pd(F0, _mm_mul_pd(ab, d0));
                 F1 = _mm_add_pd(F1, _mm_mul_pd(ab, d1));
                 F2 = _mm_add_pd(F2, _mm_mul_pd(ab, d2));
                 if constexpr (Energy) {
-                    const __m128d ed = _mm_sub_pd(e, _mm_mul_pd(TI, x0));
-                    W = _mm_add_pd(W, _mm_mul_pd(_mm_mul_pd(w, ed), ed));
+                    const __m128d x0 = _mm_loadu_pd(xi + k);
+                    const __m128d l = _mm_sqrt_pd(_mm_add_pd(
+                        _mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2)));
+                    const __m128d ed = _mm_sub_pd(_mm_sub_pd(l, x0), _mm_mul_pd(TI, x0));
+                    W = _mm_add_pd(W, _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(wv + k), ed), ed));
                 }
                 std::uint16_t al;
                 std::memcpy(&al, alive + k, 2);
