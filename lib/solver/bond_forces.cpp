@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "solver/bond_forces.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pd::solver {
 
@@ -84,33 +89,90 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
 
 /// PMB force of one row whose bonds are all intact, none breaking: the hot loop. Per bond one
 /// sqrt and one division, no branch; returns false (and leaves f_i alone) when a bond is broken
-/// or reaches its critical length, so the caller takes the general path.
+/// or reaches its critical length xi (1 + s0) (`op` = 1 + s0 of the row's body: the product
+/// b.lc holds, without its load), so the caller takes the general path.
+/// Two lanes: bond k0 + 2m + L is summed in lane L, the odd last bond in lane 0, f_i is lane 0
+/// plus lane 1. With SSE2 the lanes are one 16-byte register (sqrtpd, divpd: the divider is the
+/// loop's bottleneck); elsewhere the same operations in the same order, so the force does not
+/// depend on the CPU (nor on the rank: a row is summed whole on one rank).
 template <bool Energy>
 inline bool pmb_row_intact(const double* x, std::int64_t i, const index_t* nb, const double* xi,
-                           const double* kb, const double* lc, const std::uint8_t* alive,
-                           offset_t k0, offset_t k1, double* fi, double& e_i) {
+                           const double* kb, double op, const std::uint8_t* alive, offset_t k0,
+                           offset_t k1, double* fi, double& e_i) {
     const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-    double f0 = 0, f1 = 0, f2 = 0, e = 0;
+    double f[2][3] = {{0, 0, 0}, {0, 0, 0}}, e[2] = {0, 0};
     int bad = 0;
-    for (offset_t k = k0; k < k1; ++k) {
-        const index_t j = nb[k];
+    // One bond into lane L, the operations of the SSE2 loop one lane at a time.
+    auto bond = [&](offset_t k, int L) {
+        const std::int64_t j = nb[k];
         const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
         const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
         const double ext = l - xi[k];
-        const double a = kb[k] * ext / l;
-        f0 += a * d0;
-        f1 += a * d1;
-        f2 += a * d2;
+        const double ke = kb[k] * ext;
+        const double a = ke / l;
+        f[L][0] += a * d0;
+        f[L][1] += a * d1;
+        f[L][2] += a * d2;
         if constexpr (Energy)
-            e += kb[k] * ext * ext;
-        bad |= (l > lc[k]) | (alive[k] != 1);
+            e[L] += ke * ext;
+        bad |= static_cast<int>(l > xi[k] * op) | static_cast<int>(alive[k] != 1);
+    };
+    offset_t k = k0;
+#if defined(__SSE2__)
+    {
+        __m128d F0 = _mm_setzero_pd(), F1 = _mm_setzero_pd(), F2 = _mm_setzero_pd();
+        __m128d E = _mm_setzero_pd(), B = _mm_setzero_pd();
+        const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
+        const __m128d OP = _mm_set1_pd(op);
+        for (; k + 1 < k1; k += 2) {
+            const double* pa = x + 3 * static_cast<std::int64_t>(nb[k]);
+            const double* pb = x + 3 * static_cast<std::int64_t>(nb[k + 1]);
+            const __m128d xa = _mm_loadu_pd(pa), xb = _mm_loadu_pd(pb);
+            const __m128d d0 = _mm_sub_pd(_mm_unpacklo_pd(xa, xb), X0);
+            const __m128d d1 = _mm_sub_pd(_mm_unpackhi_pd(xa, xb), X1);
+            const __m128d d2 = _mm_sub_pd(_mm_loadh_pd(_mm_load_sd(pa + 2), pb + 2), X2);
+            const __m128d r2 =
+                _mm_add_pd(_mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2));
+            const __m128d l = _mm_sqrt_pd(r2);
+            const __m128d x0 = _mm_loadu_pd(xi + k);
+            const __m128d ext = _mm_sub_pd(l, x0);
+            const __m128d ke = _mm_mul_pd(_mm_loadu_pd(kb + k), ext);
+            const __m128d a = _mm_div_pd(ke, l);
+            F0 = _mm_add_pd(F0, _mm_mul_pd(a, d0));
+            F1 = _mm_add_pd(F1, _mm_mul_pd(a, d1));
+            F2 = _mm_add_pd(F2, _mm_mul_pd(a, d2));
+            if constexpr (Energy)
+                E = _mm_add_pd(E, _mm_mul_pd(ke, ext));
+            B = _mm_or_pd(B, _mm_cmpgt_pd(l, _mm_mul_pd(x0, OP)));
+            std::uint16_t al;
+            std::memcpy(&al, alive + k, 2);
+            bad |= static_cast<int>(al != 0x0101);
+        }
+        alignas(16) double t[2];
+        _mm_store_pd(t, F0);
+        f[0][0] = t[0], f[1][0] = t[1];
+        _mm_store_pd(t, F1);
+        f[0][1] = t[0], f[1][1] = t[1];
+        _mm_store_pd(t, F2);
+        f[0][2] = t[0], f[1][2] = t[1];
+        _mm_store_pd(t, E);
+        e[0] = t[0], e[1] = t[1];
+        bad |= _mm_movemask_pd(B);
     }
+#else
+    for (; k + 1 < k1; k += 2) {
+        bond(k, 0);
+        bond(k + 1, 1);
+    }
+#endif
+    if (k < k1)
+        bond(k, 0);
     if (bad)
         return false;
-    fi[0] = f0;
-    fi[1] = f1;
-    fi[2] = f2;
-    e_i = e;
+    fi[0] = f[0][0] + f[1][0];
+    fi[1] = f[0][1] + f[1][1];
+    fi[2] = f[0][2] + f[1][2];
+    e_i = e[0] + e[1];
     return true;
 }
 
@@ -139,7 +201,8 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
         }
         double fi[3] = {0, 0, 0};
         double e_i = 0, e_rel = 0, e_rep = 0;
-        if (!pmb_row_intact<Energy>(x, i, nb, xi, kb, lc, alive, off[a], off[a + 1], fi, e_i)) {
+        if (!pmb_row_intact<Energy>(x, i, nb, xi, kb, 1.0 + law.s0[body], alive, off[a], off[a + 1],
+                                    fi, e_i)) {
             // General path: broken bonds (repulsion), bonds breaking now.
             fi[0] = fi[1] = fi[2] = e_i = 0;
             const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
@@ -198,6 +261,25 @@ BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     return {r.energy, r.broken, r.released, r.repulsion};
 }
 
+#if defined(__SSE2__)
+/// d = x_j - x_i of two bonds (neighbours ja, jb), component by component, lane 0 = ja.
+inline void gather2(const double* x, index_t ja, index_t jb, __m128d X0, __m128d X1, __m128d X2,
+                    __m128d& d0, __m128d& d1, __m128d& d2) {
+    const double* pa = x + 3 * static_cast<std::int64_t>(ja);
+    const double* pb = x + 3 * static_cast<std::int64_t>(jb);
+    const __m128d xa = _mm_loadu_pd(pa), xb = _mm_loadu_pd(pb);
+    d0 = _mm_sub_pd(_mm_unpacklo_pd(xa, xb), X0);
+    d1 = _mm_sub_pd(_mm_unpackhi_pd(xa, xb), X1);
+    d2 = _mm_sub_pd(_mm_loadh_pd(_mm_load_sd(pa + 2), pb + 2), X2);
+}
+inline void lanes(__m128d v, double& lane0, double& lane1) {
+    alignas(16) double t[2];
+    _mm_store_pd(t, v);
+    lane0 = t[0];
+    lane1 = t[1];
+}
+#endif
+
 template <bool Breakable, bool Energy>
 BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
     // Energy of node i (spec 1.3, reference weighted volume m_i fixed for the whole run):
@@ -227,8 +309,8 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
     const double* mw = law.m.data();
     const double* wv = b.wv.data();
     const double* lc = b.lc.data();
-    double* len = b.len.data();
-    double* inv_len = b.inv_len.data();
+    double* bu = b.len.data();     // omega beta V_j e / l, pass 1 for pass 2
+    double* bv = b.inv_len.data(); // omega beta V_j xi / l
     double* pshare = law.lps_p.data();
     const double* ka = law.lps_a.data();
     const double* kt = law.lps_k.data();
@@ -243,18 +325,56 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
             return;
         }
         const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-        // Hot loop: every bond intact, none breaking (no branch).
-        double th = 0;
+        // Hot loop: every bond intact, none breaking (no branch). Two lanes as in the PMB row:
+        // bond k0 + 2m + L summed in lane L, the odd last one in lane 0.
+        double th2[2] = {0, 0};
         int bad = 0;
-        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
+        const double op = 1.0 + law.s0[body]; // breaks beyond xi (1 + s0), as b.lc
+        auto bond1 = [&](offset_t k, int L) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
             const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            len[k] = l; // for pass 2: no second sqrt nor division there
-            inv_len[k] = 1.0 / l;
-            th += wv[k] * xi[k] * (l - xi[k]);
-            bad |= (l > lc[k]) | (alive[k] != 1);
+            const double inv = 1.0 / l, wx = wv[k] * xi[k], e = l - xi[k];
+            bu[k] = wv[k] * e * inv; // for pass 2: no sqrt, division, nor e there
+            bv[k] = wx * inv;
+            th2[L] += wx * e;
+            bad |= static_cast<int>(l > xi[k] * op) | static_cast<int>(alive[k] != 1);
+        };
+        offset_t k = off[a];
+        const offset_t k1 = off[a + 1];
+#if defined(__SSE2__)
+        {
+            const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
+            const __m128d OP = _mm_set1_pd(op), ONE = _mm_set1_pd(1.0);
+            __m128d TH = _mm_setzero_pd(), B = _mm_setzero_pd();
+            for (; k + 1 < k1; k += 2) {
+                __m128d d0, d1, d2;
+                gather2(x, nb[k], nb[k + 1], X0, X1, X2, d0, d1, d2);
+                const __m128d l = _mm_sqrt_pd(_mm_add_pd(
+                    _mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2)));
+                const __m128d inv = _mm_div_pd(ONE, l);
+                const __m128d x0 = _mm_loadu_pd(xi + k), w = _mm_loadu_pd(wv + k);
+                const __m128d wx = _mm_mul_pd(w, x0), e = _mm_sub_pd(l, x0);
+                _mm_storeu_pd(bu + k, _mm_mul_pd(_mm_mul_pd(w, e), inv));
+                _mm_storeu_pd(bv + k, _mm_mul_pd(wx, inv));
+                TH = _mm_add_pd(TH, _mm_mul_pd(wx, e));
+                B = _mm_or_pd(B, _mm_cmpgt_pd(l, _mm_mul_pd(x0, OP)));
+                std::uint16_t al;
+                std::memcpy(&al, alive + k, 2);
+                bad |= static_cast<int>(al != 0x0101);
+            }
+            lanes(TH, th2[0], th2[1]);
+            bad |= _mm_movemask_pd(B);
         }
+#else
+        for (; k + 1 < k1; k += 2) {
+            bond1(k, 0);
+            bond1(k + 1, 1);
+        }
+#endif
+        if (k < k1)
+            bond1(k, 0);
+        double th = th2[0] + th2[1];
         bool damaged = false;
         double mi = 0;
         if (bad) {
@@ -301,24 +421,72 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
         const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
         double fi[3] = {0, 0, 0}, wdev = 0, e_rep = 0, th_new = 0;
         bool fresh = false;
-        // Hot loop (no branch): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)).
+        // Hot loop (no branch): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)). Two lanes
+        // as in pass 1.
         const double pi = pshare[i], ti = theta[i] / dd;
+        double f2[2][3] = {{0, 0, 0}, {0, 0, 0}}, w2[2] = {0, 0};
         int bad = 0;
-        for (offset_t k = off[a]; k < off[a + 1]; ++k) {
+        auto bond2 = [&](offset_t k, int L) {
             const index_t j = nb[k];
             const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-            const double e = len[k] - xi[k];
-            const double t = (a_i + ka[j]) * e + xi[k] * (pi + pshare[j]);
-            const double ab = wv[k] * t * inv_len[k];
-            fi[0] += ab * d0;
-            fi[1] += ab * d1;
-            fi[2] += ab * d2;
-            if constexpr (Energy) {
-                const double ed = e - ti * xi[k];
-                wdev += wv[k] * ed * ed;
+            // omega t / l = (A_i + A_j) omega e / l + (P_i + P_j) omega xi / l
+            const double ab = (a_i + ka[j]) * bu[k] + (pi + pshare[j]) * bv[k];
+            f2[L][0] += ab * d0;
+            f2[L][1] += ab * d1;
+            f2[L][2] += ab * d2;
+            if constexpr (Energy) { // e again, bitwise as in pass 1 (observation steps only)
+                const double ed = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) - xi[k] - ti * xi[k];
+                w2[L] += wv[k] * ed * ed;
             }
-            bad |= alive[k] != 1;
+            bad |= static_cast<int>(alive[k] != 1);
+        };
+        offset_t k = off[a];
+        const offset_t k1 = off[a + 1];
+#if defined(__SSE2__)
+        {
+            const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
+            const __m128d AI = _mm_set1_pd(a_i), PI = _mm_set1_pd(pi), TI = _mm_set1_pd(ti);
+            __m128d F0 = _mm_setzero_pd(), F1 = _mm_setzero_pd(), F2 = _mm_setzero_pd();
+            __m128d W = _mm_setzero_pd();
+            for (; k + 1 < k1; k += 2) {
+                const index_t ja = nb[k], jb = nb[k + 1];
+                __m128d d0, d1, d2;
+                gather2(x, ja, jb, X0, X1, X2, d0, d1, d2);
+                const __m128d ab = _mm_add_pd(
+                    _mm_mul_pd(_mm_add_pd(AI, _mm_set_pd(ka[jb], ka[ja])), _mm_loadu_pd(bu + k)),
+                    _mm_mul_pd(_mm_add_pd(PI, _mm_set_pd(pshare[jb], pshare[ja])),
+                               _mm_loadu_pd(bv + k)));
+                F0 = _mm_add_pd(F0, _mm_mul_pd(ab, d0));
+                F1 = _mm_add_pd(F1, _mm_mul_pd(ab, d1));
+                F2 = _mm_add_pd(F2, _mm_mul_pd(ab, d2));
+                if constexpr (Energy) {
+                    const __m128d x0 = _mm_loadu_pd(xi + k);
+                    const __m128d l = _mm_sqrt_pd(_mm_add_pd(
+                        _mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2)));
+                    const __m128d ed = _mm_sub_pd(_mm_sub_pd(l, x0), _mm_mul_pd(TI, x0));
+                    W = _mm_add_pd(W, _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(wv + k), ed), ed));
+                }
+                std::uint16_t al;
+                std::memcpy(&al, alive + k, 2);
+                bad |= static_cast<int>(al != 0x0101);
+            }
+            lanes(F0, f2[0][0], f2[1][0]);
+            lanes(F1, f2[0][1], f2[1][1]);
+            lanes(F2, f2[0][2], f2[1][2]);
+            lanes(W, w2[0], w2[1]);
         }
+#else
+        for (; k + 1 < k1; k += 2) {
+            bond2(k, 0);
+            bond2(k + 1, 1);
+        }
+#endif
+        if (k < k1)
+            bond2(k, 0);
+        fi[0] = f2[0][0] + f2[1][0];
+        fi[1] = f2[0][1] + f2[1][1];
+        fi[2] = f2[0][2] + f2[1][2];
+        wdev = w2[0] + w2[1];
         if (bad) { // general path: broken bonds (repulsion), bonds broken in pass 1
             fi[0] = fi[1] = fi[2] = wdev = 0;
             const double kr = law.krep[body], rr = law.rrep[body];

@@ -116,8 +116,10 @@ struct BondData {
     std::vector<double> kb; ///< PMB: c stiff V_j / xi (force density = kb (l - xi) / l), N m-7
     std::vector<double> wv; ///< LPS: omega beta V_j, m3
     std::vector<double> lc; ///< length at which the bond breaks, xi (1 + s0) (inf: never), m
-    /// LPS work arrays: |x_j - x_i| and its inverse from the dilatation pass, reused by the force
-    /// pass (one sqrt and one division per bond for both passes).
+    /// LPS work arrays from the dilatation pass for the force pass: `len` holds
+    /// omega beta V_j e / l and `inv_len` omega beta V_j xi / l (e = l - xi, l = |x_j - x_i|), so
+    /// both passes do one sqrt and one division per bond, and the force pass's bond force is
+    /// (A_i + A_j) len + (P_i + P_j) inv_len.
     std::vector<double> len, inv_len;
 };
 

@@ -3,11 +3,13 @@
 // is the best (min time) and the median of several runs, and the side-by-side ratios come from
 // runs interleaved in one process.
 //   1. bond kernels: bond-updates per second per core (thread CPU time, 1 thread), PMB and LPS,
-//      2D plate and 3D box, and the naive PMB loop of before issue 15 built in this binary;
+//      2D plate and 3D box, energies summed (as on observation steps) and not (the other
+//      steps), and the naive PMB loop of before issue 15 built in this binary;
 //   2. whole steps: node-steps per second (per process CPU second, and per wall second) at 1 and
 //      2 threads, and the share of a step spent outside the bond and contact loops;
 //   3. scaling: CPU time per node-step of a 2D PMB plate from 1e4 nodes up.
-// Usage: solver_bench [--quick] [--runs N]   (quick: smaller sizes, for a smoke run)
+// Usage: solver_bench [--quick] [--runs N] [--kernels]
+//   (quick: smaller sizes, for a smoke run; kernels: section 1 only)
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
 #include "solver/solver.hpp"
@@ -128,11 +130,13 @@ Steps run_steps(solver::Solver& s, int steps) {
 } // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
+    bool quick = false, kernels_only = false;
     int runs = 5;
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--quick") == 0)
             quick = true;
+        else if (std::strcmp(argv[a], "--kernels") == 0)
+            kernels_only = true;
         else if (std::strcmp(argv[a], "--runs") == 0 && a + 1 < argc)
             runs = std::max(1, std::atoi(argv[++a]));
     }
@@ -141,8 +145,8 @@ int main(int argc, char** argv) {
 
     fmt::print("## 1. Bond kernels (1 thread, thread CPU time)\n\n");
     fmt::print("| law | dim | nodes | bonds | bonds/node | bond-updates/s per core | naive loop "
-               "(before issue 15) | ratio (best) |\n");
-    fmt::print("|---|---|---|---|---|---|---|---|\n");
+               "(before issue 15) | ratio (best) | without energies |\n");
+    fmt::print("|---|---|---|---|---|---|---|---|---|\n");
     set_threads(1);
     for (const char* law : {"pmb", "lps"})
         for (int dim : {2, 3}) {
@@ -152,7 +156,7 @@ int main(int argc, char** argv) {
             const double bonds = static_cast<double>(m.bonds.num());
             const int calls = std::max(2, static_cast<int>((quick ? 2e7 : 2e8) / bonds));
             const bool naive = std::strcmp(law, "pmb") == 0;
-            std::vector<double> rate, rate_ref;
+            std::vector<double> rate, rate_ref, rate_noe;
             for (int r = 0; r < runs; ++r) { // interleaved
                 double t0 = thread_cpu();
                 for (int c = 0; c < calls; ++c)
@@ -164,6 +168,13 @@ int main(int argc, char** argv) {
                         w.s.bond_forces_only(true);
                     rate_ref.push_back(bonds * calls / (thread_cpu() - t0));
                 }
+                // The kernels of the steps that sum no energy (9 of 10 by default).
+                w.s.set_energies(false);
+                t0 = thread_cpu();
+                for (int c = 0; c < calls; ++c)
+                    w.s.bond_forces_only();
+                rate_noe.push_back(bonds * calls / (thread_cpu() - t0));
+                w.s.set_energies(true);
             }
             const double best = *std::max_element(rate.begin(), rate.end());
             std::string ref = "-", ratio = "-";
@@ -172,11 +183,15 @@ int main(int argc, char** argv) {
                 ref = fmt::format("{:.3g} / {:.3g}", best_ref, median(rate_ref));
                 ratio = fmt::format("{:.2f}", best / best_ref);
             }
-            fmt::print("| {} | {}D | {} | {:.0f} | {:.1f} | {:.3g} / {:.3g} | {} | {} |\n", law,
-                       dim, m.nodes.num(), bonds, bonds / static_cast<double>(m.nodes.num()), best,
-                       median(rate), ref, ratio);
+            fmt::print("| {} | {}D | {} | {:.0f} | {:.1f} | {:.3g} / {:.3g} | {} | {} | {:.3g} / "
+                       "{:.3g} |\n",
+                       law, dim, m.nodes.num(), bonds, bonds / static_cast<double>(m.nodes.num()),
+                       best, median(rate), ref, ratio,
+                       *std::max_element(rate_noe.begin(), rate_noe.end()), median(rate_noe));
         }
 
+    if (kernels_only)
+        return 0;
     fmt::print("\n## 2. Whole steps (process CPU time; wall for reference)\n\n");
     fmt::print("| scene | nodes | threads | steps | node-steps per CPU s | node-steps per wall s "
                "| share of the step outside bond and contact loops |\n");
