@@ -8,6 +8,7 @@
 #include "model/quadrature.hpp"
 #include "model/rnp.hpp"
 #include "model/slots.hpp"
+#include "model/surface_correction.hpp"
 #include "solver/bond_forces.hpp"
 #include "solver/stability.hpp"
 
@@ -730,32 +731,40 @@ void Solver::family_factors() {
             out[static_cast<std::size_t>(s_.rows[a])] = sum;
         }
     };
-    // Optional PMB surface correction (solver.surface_correction, off by default): the discrete
-    // family of node i integrates the bond energy of an isotropic stretch as sum_j xi beta V_j
-    // instead of the continuum's integral of xi over the horizon (2 pi delta^3 / 3 in 2D,
-    // pi delta^4 in 3D). lambda_i is their ratio (about 1 in the bulk with the partial cut-off,
-    // up to 2-4 for the truncated families of surface, edge and corner nodes); bond ij gets
-    // (lambda_i + lambda_j) / 2. It removes the softening for isotropic deformation but
-    // over-stiffens surfaces in uniaxial stress: measured on a 3D bar, section force +9 % with
-    // it against -3.5 % without at h = 0.25 mm (tests/unit/solver/test_accuracy.cpp).
+    // Surface correction (solver.surface_correction; model/surface_correction.hpp): per-node
+    // axis factors relative to a complete family of the body, a directional factor per bond on
+    // the PMB micromodulus or the LPS influence function (before m_i is summed from it).
     b_.stiff = b_.beta;
     if (m_.solver.surface_correction) {
-        std::vector<double> lambda;
-        own_sum([&](std::size_t k, double vj) { return b_.xi[k] * b_.beta[k] * vj; }, lambda);
-        for (auto row : s_.rows) {
-            const auto i = static_cast<std::size_t>(row);
-            const double d = m_.bodies.horizon[static_cast<std::size_t>(s_.body[i])];
-            const double cont =
-                m_.dimension == 3 ? M_PI * std::pow(d, 4) : 2.0 * M_PI * std::pow(d, 3) / 3.0;
-            lambda[i] = lambda[i] > 0 ? cont / lambda[i] : 1.0;
-        }
-        dom_->exchange({&lambda}, 1);
+        std::vector<double> w(b_.xi.size(), 0.0), angle(n, 0.0), ref(m_.bodies.num(), 1.0);
+        for (std::size_t b = 0; b < ref.size(); ++b) // a complete family's axis moment
+            if (!m_.bodies.fixed[b])
+                ref[b] = std::max(model::quadrature_factors(m_, b).axis_moment, 1e-300);
         for (std::size_t a = 0; a < nr; ++a) {
             const auto i = static_cast<std::size_t>(s_.rows[a]);
+            const auto body = static_cast<std::size_t>(s_.body[i]);
             for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
                 const auto kk = static_cast<std::size_t>(k);
-                b_.stiff[kk] = b_.beta[kk] * 0.5 *
-                               (lambda[i] + lambda[static_cast<std::size_t>(b_.neighbor[kk])]);
+                const double r = b_.xi[kk], vb = b_.beta[kk] *
+                                                 s_.vol[static_cast<std::size_t>(b_.neighbor[kk])] /
+                                                 ref[body];
+                // RNP and fixed bodies: no bonds counted, factors 1.
+                w[kk] = law_.rnp[body] || m_.bodies.fixed[body] ? 0.0
+                        : law_.lps[body]                        ? b_.omega[kk] * r * r * vb
+                                                                : r * vb;
+            }
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            angle[i] = m_.bodies.orientation[static_cast<std::size_t>(s_.body[i])];
+        const model::FamilyRows f{b_.offsets, b_.neighbor, s_.rows, s_.x0, angle};
+        const auto G = model::surface_bond_factors(
+            f, w, m_.dimension, n, [&](std::vector<double>& g) { dom_->exchange({&g}, 3); }, 1);
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto body =
+                static_cast<std::size_t>(s_.body[static_cast<std::size_t>(s_.rows[a])]);
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                (law_.lps[body] ? b_.omega[kk] : b_.stiff[kk]) *= G[kk];
             }
         }
     }

@@ -353,13 +353,16 @@ PROBLEMS = {
     # name: (title, {series: levels of h}, quick levels count)
     "plate": ("Static uniaxial plate (2D, grid, m = 3): interior strain vs sigma / E",
               {"pmb": [4e-4, 2e-4, 1e-4, 5e-5], "lps": [4e-4, 2e-4, 1e-4, 5e-5],
-               "pmb + surface correction": [4e-4, 2e-4, 1e-4, 5e-5]}),
+               "pmb + surface correction": [4e-4, 2e-4, 1e-4, 5e-5],
+               "lps + surface correction": [4e-4, 2e-4, 1e-4, 5e-5]}),
     "wave2d": ("Wave speed in a strip (2D, 40 x 2 mm, grid, m = 3) vs sqrt(E / rho)",
                {"pmb": [2e-4, 1e-4, 5e-5, 2.5e-5], "lps": [2e-4, 1e-4, 5e-5, 2.5e-5],
-                "pmb + surface correction": [2e-4, 1e-4, 5e-5]}),
+                "pmb + surface correction": [2e-4, 1e-4, 5e-5, 2.5e-5],
+                "lps + surface correction": [2e-4, 1e-4, 5e-5]}),
     "wave3d": ("Wave speed in a bar (3D, 20 x 2 x 2 mm, grid, m = 3) vs sqrt(E / rho)",
                {"pmb": [4e-4, 2e-4, 1e-4], "lps": [4e-4, 2e-4, 1e-4],
-                "pmb + surface correction": [4e-4, 2e-4, 1e-4]}),
+                "pmb + surface correction": [4e-4, 2e-4, 1e-4],
+                "lps + surface correction": [4e-4, 2e-4, 1e-4]}),
     "plate_m": ("m-convergence (delta fixed, m -> infinity): the plate (PMB) at delta = 0.8 mm, "
                 "m = delta / h = 2, 3, 4, 6 (converges to the nonlocal answer, whose surface "
                 "layer is fixed)",
@@ -460,7 +463,7 @@ PLACEHOLDERS = [
 
 def solve_level(runner, problem, series, h):
     tag = re.sub(r'[^A-Za-z0-9_.]+', '_', f"{problem}_{series}_{h:.3g}")
-    # "pmb + surface correction": the PMB law with solver.surface_correction on (opt-in).
+    # "pmb (lps) + surface correction": the law with solver.surface_correction on (opt-in).
     sets = ["solver.surface_correction=true"] if series.endswith("surface correction") else []
     law = series.split()[0]
     if problem in ("plate", "plate_m"):
