@@ -151,11 +151,16 @@ QuadratureFactors quadrature_factors(const Model& m, std::size_t b, int max_samp
         avg.mw += S.mw;
         ++out.samples;
     }
-    if (out.samples == 0)
-        return out;
     // Continuum moments: int J r^k n^4 dV = (int J r^k dV) iso / (d (d + 2)), iso_1111 = 3,
     // iso_1122 = 1, and int J r^k dV = omega_d' delta^(d+k) int_0^1 J q^(d-1+k) dq (2 pi | 4 pi).
     const double shell = d == 3 ? 4 * pi : 2 * pi;
+    const int p = mat.law == Law::lps ? 2 : 1;
+    if (out.samples == 0) {
+        out.axis_moment =
+            3 * shell * std::pow(delta, d + p) * influence_moment(inf, d - 1 + p) / (d * (d + 2));
+        return out;
+    }
+    out.axis_moment = (p == 2 ? avg.q11 : avg.m11) / out.samples;
     if (mat.law == Law::lps) {
         // C = kappa A + mu B with A = (d/m)^2 P P, B = (alpha/m) (Q - P P / m) (see lps.hpp);
         // every term is invariant to scaling all the sums, so they need no division by samples.

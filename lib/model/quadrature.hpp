@@ -14,8 +14,8 @@
 //   LPS:      kappa and mu solved from C_1111 and C_1122 of the discrete family (2 x 2).
 // A lattice family has cubic symmetry, not isotropy: matched along the axes, the modulus at
 // 45 degrees remains off by the lattice anisotropy (2D PMB, m = 3: -1.3 %; see RESULTS in
-// workflows/accuracy). Surface families are not used (a per-node factor over-stiffens surfaces,
-// see solver.surface_correction); the surface layer's softening is what is left, O(delta / L).
+// workflows/accuracy). Surface families are not used: the surface layer's error, O(delta / L),
+// is the surface correction's (model/surface_correction.hpp, relative to these complete families).
 // A body with no complete family (thinner than about 2 delta + h) keeps the continuum constants.
 #pragma once
 
@@ -29,6 +29,11 @@ struct QuadratureFactors {
     double kappa = 1; ///< LPS bulk modulus
     double mu = 1;    ///< LPS shear modulus
     int samples = 0;  ///< interior families used (0: none found, factors 1)
+    /// A complete family's axis moment sum_j J xi^p (n_a)^4 beta V_j (p = 1 and J = 1 for PMB and
+    /// RNP, p = 2 and the law's influence for LPS), mean over the samples and the body's axes: the
+    /// bulk reference of the surface correction (model/surface_correction.hpp). The continuum
+    /// integral if no complete family was found.
+    double axis_moment = 0;
 };
 
 /// Factors for body `b` of `m` (its material's law and influence function). Families are built

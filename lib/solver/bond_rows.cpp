@@ -7,6 +7,7 @@
 #include "model/pmb.hpp"
 #include "model/quadrature.hpp"
 #include "model/rnp.hpp"
+#include "model/surface_correction.hpp"
 #include "solver/bond_forces.hpp"
 #include "solver/detail.hpp"
 
@@ -170,32 +171,40 @@ void family_factors(Forces& f) {
             out[static_cast<std::size_t>(f.s.rows[a])] = sum;
         }
     };
-    // Optional PMB surface correction (solver.surface_correction, off by default): the discrete
-    // family of node i integrates the bond energy of an isotropic stretch as sum_j xi beta V_j
-    // instead of the continuum's integral of xi over the horizon (2 pi delta^3 / 3 in 2D,
-    // pi delta^4 in 3D). lambda_i is their ratio (about 1 in the bulk with the partial cut-off,
-    // up to 2-4 for the truncated families of surface, edge and corner nodes); bond ij gets
-    // (lambda_i + lambda_j) / 2. It removes the softening for isotropic deformation but
-    // over-stiffens surfaces in uniaxial stress: measured on a 3D bar, section force +9 % with
-    // it against -3.5 % without at h = 0.25 mm (tests/unit/solver/test_accuracy.cpp).
+    // Surface correction (solver.surface_correction; model/surface_correction.hpp): per-node
+    // axis factors relative to a complete family of the body, a directional factor per bond on
+    // the PMB micromodulus or the LPS influence function (before m_i is summed from it).
     f.b.stiff = f.b.beta;
     if (f.m.solver.surface_correction) {
-        std::vector<double> lambda;
-        own_sum([&](std::size_t k, double vj) { return f.b.xi[k] * f.b.beta[k] * vj; }, lambda);
-        for (auto row : f.s.rows) {
-            const auto i = static_cast<std::size_t>(row);
-            const double d = f.m.bodies.horizon[static_cast<std::size_t>(f.s.body[i])];
-            const double cont =
-                f.m.dimension == 3 ? M_PI * std::pow(d, 4) : 2.0 * M_PI * std::pow(d, 3) / 3.0;
-            lambda[i] = lambda[i] > 0 ? cont / lambda[i] : 1.0;
-        }
-        f.dom->exchange({&lambda}, 1);
+        std::vector<double> w(f.b.xi.size(), 0.0), angle(n, 0.0), ref(f.m.bodies.num(), 1.0);
+        for (std::size_t b = 0; b < ref.size(); ++b) // a complete family's axis moment
+            if (!f.m.bodies.fixed[b])
+                ref[b] = std::max(model::quadrature_factors(f.m, b).axis_moment, 1e-300);
         for (std::size_t a = 0; a < nr; ++a) {
             const auto i = static_cast<std::size_t>(f.s.rows[a]);
+            const auto body = static_cast<std::size_t>(f.s.body[i]);
             for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
                 const auto kk = static_cast<std::size_t>(k);
-                f.b.stiff[kk] = f.b.beta[kk] * 0.5 *
-                                (lambda[i] + lambda[static_cast<std::size_t>(f.b.neighbor[kk])]);
+                const double r = f.b.xi[kk],
+                             vb = f.b.beta[kk] *
+                                  f.s.vol[static_cast<std::size_t>(f.b.neighbor[kk])] / ref[body];
+                // RNP and fixed bodies: no bonds counted, factors 1.
+                w[kk] = f.law.rnp[body] || f.m.bodies.fixed[body] ? 0.0
+                        : f.law.lps[body]                         ? f.b.omega[kk] * r * r * vb
+                                                                  : r * vb;
+            }
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            angle[i] = f.m.bodies.orientation[static_cast<std::size_t>(f.s.body[i])];
+        const model::FamilyRows fr{f.b.offsets, f.b.neighbor, f.s.rows, f.s.x0, angle};
+        const auto G = model::surface_bond_factors(
+            fr, w, f.m.dimension, n, [&](std::vector<double>& g) { f.dom->exchange({&g}, 3); }, 1);
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto body =
+                static_cast<std::size_t>(f.s.body[static_cast<std::size_t>(f.s.rows[a])]);
+            for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                (f.law.lps[body] ? f.b.omega[kk] : f.b.stiff[kk]) *= G[kk];
             }
         }
     }
