@@ -160,7 +160,8 @@ def test_sigkill_then_restart_on_1_and_4_ranks(tmp_path):
         latest = h["checkpoints"].attrs["latest"]
         latest = latest.decode() if isinstance(latest, bytes) else latest
         ck = h[f"checkpoints/{latest}"]
-        assert ck.attrs["complete"] == 1 and ck.attrs["step"] >= 215
+        # checkpoints every ~59 steps of 587: killed at step >= 200, the third (176) or later
+        assert ck.attrs["complete"] == 1 and ck.attrs["step"] >= 170
         print(f"killed at step >= {step}; latest checkpoint at step {ck.attrs['step']}")
     for ranks in (1, 4):
         f = tmp_path / f"restart_{ranks}.h5"
