@@ -92,8 +92,9 @@ $(ASAN_BUILD)/build.ninja: | deps-asan
 	  $(ASAN_CMAKE_FLAGS) > $(ASAN_BUILD)/configure.log 2>&1 || \
 	  { cat $(ASAN_BUILD)/configure.log; rm -f $@; exit 1; }
 
+# (SAN_ENV also here: gtest_discover_tests runs each unit-test binary at build time.)
 asan-build: deps-asan $(ASAN_BUILD)/build.ninja
-	@cmake --build $(ASAN_BUILD) -j $(JOBS) --target $(SAN_TARGETS)
+	@$(SAN_ENV) cmake --build $(ASAN_BUILD) -j $(JOBS) --target $(SAN_TARGETS)
 
 test-asan: asan-build
 	@cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L '$(ASAN_LABELS)' -E '$(ASAN_EXCLUDE)'
