@@ -62,7 +62,12 @@ stability: build
 # unit tests) and `make fuzz` (tests/fuzz: the harnesses only add libFuzzer's main at link).
 # The one exception: vptr checks stay recoverable so that tests/asan/ubsan.supp can silence the
 # reports inside CGAL's polygon-set headers; UBSAN_OPTIONS=halt_on_error=1 still halts on every
-# other one. OpenMP is off in this build (no libomp for clang 16 in Debian 12's default set).
+# other one. That alone is enough (measured with clang 16: the CGAL unit tests pass), but it is
+# slow (Shapes.UChannelAndLens and AnnulusAndDrumWithBar took 164 s and 158 s under load; about
+# 0.5 s in Release; probably the runtime handling each of the many suppressed reports), so
+# region.cpp, the one file that reaches them, is compiled without the vptr check
+# (PD_SANITIZE_CGAL_NO_VPTR; its effect on those times is not measured yet). OpenMP is off in
+# this build (no libomp for clang 16 in Debian 12's default set).
 ASAN_BUILD ?= build-asan
 SAN_FLAGS = -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all \
   -fsanitize-recover=vptr -fno-omit-frame-pointer
@@ -93,7 +98,7 @@ deps-asan:
 $(ASAN_BUILD)/build.ninja: | deps-asan
 	@mkdir -p $(ASAN_BUILD)
 	@CC=clang-16 CXX=clang++-16 cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=None \
-	  -DPD_ENABLE_ASSERTS=ON -DPD_ENABLE_FUZZ=ON -DPD_ENABLE_OPENMP=OFF \
+	  -DPD_ENABLE_ASSERTS=ON -DPD_ENABLE_FUZZ=ON -DPD_ENABLE_OPENMP=OFF -DPD_SANITIZE_CGAL_NO_VPTR=ON \
 	  "-DCMAKE_CXX_FLAGS=-O1 -g1 $(SAN_FLAGS)" "-DCMAKE_C_FLAGS=-O1 -g1 $(SAN_FLAGS)" \
 	  "-DCMAKE_EXE_LINKER_FLAGS=$(SAN_FLAGS)" "-DCMAKE_SHARED_LINKER_FLAGS=$(SAN_FLAGS)" \
 	  $(ASAN_CMAKE_FLAGS) > $(ASAN_BUILD)/configure.log 2>&1 || \
