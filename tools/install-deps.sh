@@ -4,8 +4,9 @@
 # everything is there; runs `apt-get update` only when something is missing.
 # `install-deps.sh --slurm` also installs Slurm and munge (slurm-wlm: slurmctld, slurmd, sbatch)
 # for the single-node Slurm test of workflows/sweep (tests/slurm); the daemons are not started.
-# `install-deps.sh --fuzz` also installs clang 16 with its libFuzzer/sanitizer runtimes (`make fuzz`:
-# clang 14 cannot compile std::source_location of libstdc++ 12, clang 16 can).
+# `install-deps.sh --fuzz` also installs clang 16 with its libFuzzer/sanitizer runtimes and llvm's
+# symbolizer (`make test-asan`, `make fuzz`: clang 14 cannot compile std::source_location of
+# libstdc++ 12, clang 16 can).
 set -euo pipefail
 with_slurm=0
 with_fuzz=0
@@ -30,7 +31,7 @@ if [ "$with_slurm" = 1 ]; then
   packages+=(slurm-wlm munge)
 fi
 if [ "$with_fuzz" = 1 ]; then
-  packages+=(clang-16 libclang-rt-16-dev)
+  packages+=(clang-16 libclang-rt-16-dev llvm)
 fi
 missing=()
 for p in "${packages[@]}"; do

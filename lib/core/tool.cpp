@@ -23,6 +23,12 @@ void add_common_flags(CLI::App& app, CommonOptions& opt) {
                                                   pd::version, pd::git_commit));
 }
 
+int usage_exit(CLI::App& app, const CLI::ParseError& e) {
+    // CLI11's own codes: 0 for --help/--version (CLI::Success, CallForHelp, CallForVersion),
+    // 100-127 for errors; app.exit() prints either.
+    return app.exit(e) == 0 ? exit_ok : exit_input;
+}
+
 std::string utc_now() {
     std::time_t t = std::time(nullptr);
     std::tm tm{};

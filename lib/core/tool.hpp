@@ -2,7 +2,8 @@
 // run_tool(): the one startup of every pd-* executable. It opens the MPI session, builds the
 // Context (log, ranks, threads, provenance) and maps exceptions to exit codes:
 // 0 ok, 2 bad input, 3 numerical failure, 4 internal error, 75 stopped by a signal with a
-// checkpoint to restart from (CLI11 usage errors keep CLI11's codes).
+// checkpoint to restart from. A command-line usage error is bad input too: exit 2 with CLI11's
+// message (usage_exit()).
 #pragma once
 
 #include "core/log.hpp"
@@ -13,7 +14,8 @@
 
 namespace CLI {
 class App;
-}
+class ParseError;
+} // namespace CLI
 
 namespace pd {
 
@@ -65,6 +67,12 @@ struct Context {
 
 /// Adds --quiet, -v/--verbose and --version to a CLI11 app.
 void add_common_flags(CLI::App& app, CommonOptions& opt);
+
+/// The answer to a CLI11 parse error: --help and --version print and return exit_ok; a usage
+/// error (missing argument, unconvertible value, unknown option, failed check) prints CLI11's
+/// message to stderr and returns exit_input (2), like any other bad input. Every tool's main:
+/// `try { app.parse(argc, argv); } catch (const CLI::ParseError& e) { return usage_exit(app, e); }`
+int usage_exit(CLI::App& app, const CLI::ParseError& e);
 
 /// ISO 8601 UTC time of now ("2026-11-23T13:38:05Z").
 std::string utc_now();

@@ -85,4 +85,5 @@ def test_pd_post_not_hdf5(bin_dir, tmp_path):
 
 def test_pd_post_usage_error(bin_dir):
     r = run(bin_dir / "pd-post")
-    assert r.returncode not in (0, 2)  # CLI11 usage errors keep CLI11's codes (100-127)
+    assert r.returncode == 2  # a usage error is bad input (CLI11's own 100-127 before)
+    assert "file is required" in r.stderr, r.stderr

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Runs the libFuzzer harnesses of build-fuzz for a bounded time each (CI: 60 s) on a scratch copy
+# Runs the libFuzzer harnesses of the instrumented build (build-asan, `make fuzz`) for a bounded time each (CI: 60 s) on a scratch copy
 # of the stored corpus (tests/fuzz/corpus/<target>), after replaying every stored regression
 # input (tests/fuzz/regressions/<target>/*: inputs that once crashed; each must pass now).
 # Prints executions and findings per target; exit 1 if a harness crashed, leaked or hung
@@ -11,8 +11,8 @@ build="$(cd "$1" && pwd)"
 seconds="${2:-60}"
 here="$(cd "$(dirname "$0")" && pwd)"
 out="$build/fuzz-run"
-# The suppression matches by source file: the reports must be symbolized (clang 16's symbolizer).
-sym=/usr/lib/llvm-16/bin/llvm-symbolizer
+# Debian's clang-16 package brings no llvm-symbolizer; llvm 14's (the default one) reads its DWARF.
+sym=/usr/bin/llvm-symbolizer
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$here/../asan/ubsan.supp:external_symbolizer_path=$sym"
 export ASAN_SYMBOLIZER_PATH="$sym"
 export ASAN_OPTIONS="detect_leaks=0"

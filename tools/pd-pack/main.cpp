@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
         if (opt.print_scene)
             opt.common.quiet = true; // stdout carries the JSON alone
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        return pd::usage_exit(app, e);
     }
     return pd::run_tool("pd-pack", argc, argv, opt.common,
                         [&](pd::Context& ctx) { pd::pipeline::pack(opt, ctx); });

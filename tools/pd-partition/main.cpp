@@ -15,7 +15,11 @@ int main(int argc, char** argv) {
     app.add_option("-n,--parts", opt.num_parts, "number of parts")->required();
     app.add_option("--by", opt.by, "grain (alias body: whole grains), node (bond graph) or auto");
     pd::add_common_flags(app, opt.common);
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return pd::usage_exit(app, e);
+    }
     return pd::run_tool("pd-partition", argc, argv, opt.common,
                         [&](pd::Context& ctx) { pd::pipeline::partition(opt, ctx); });
 }

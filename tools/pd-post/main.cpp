@@ -39,7 +39,11 @@ int main(int argc, char** argv) {
     app.add_option("--crack-window", opt.crack_opt.half_window, "speed fit half-width (frames)");
     app.add_option("--progress-seconds", opt.progress_seconds, "seconds between progress lines");
     pd::add_common_flags(app, opt.common);
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return pd::usage_exit(app, e);
+    }
     return pd::run_tool("pd-post", argc, argv, opt.common,
                         [&](pd::Context& ctx) { pd::pipeline::post(opt, ctx); });
 }

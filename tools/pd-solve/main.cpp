@@ -45,7 +45,11 @@ int main(int argc, char** argv) {
                "Exit codes: 0 ok, 2 bad input, 3 numerical failure, 4 internal error, 75 stopped "
                "by a signal with a checkpoint.");
     pd::add_common_flags(app, opt.common);
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return pd::usage_exit(app, e);
+    }
     opt.penetration_check = !no_penetration;
     opt.max_steps_given = steps->count() > 0;
     opt.final_time_given = final_time->count() > 0;
