@@ -77,7 +77,7 @@ SAN_TARGETS = pd-pack pd-partition pd-solve pd-post test_model test_mesh test_ge
 # tables, the pack -> partition -> solve -> post chain, the bad-input matrix (tests/cli) and the
 # scene bad-input and fuzz-regression suites of tests/pack.
 ASAN_LABELS ?= pipeline|cli
-ASAN_EXCLUDE ?= Restitution\.Table|Accuracy\.(UniaxialStretchOfAPlate|CoulombFrictionOnAnIncline|WaveSpeedInABar)|Restitution\.UnequalDiscsStayHeadOn
+ASAN_EXCLUDE ?= ShapeMesh\.VolumesAndCentroidOfEveryShape|Csg3dStl\.SurfaceMeshInCsgAndMixedDimensions|Restitution\.Table|Accuracy\.(UniaxialStretchOfAPlate|CoulombFrictionOnAnIncline|WaveSpeedInABar)|Restitution\.UnequalDiscsStayHeadOn
 ASAN_PYTEST ?= tests/pack/test_bad_input.py tests/pack/test_fuzz_regressions.py
 SAN_SYMBOLIZER = /usr/bin/llvm-symbolizer
 # Leaks are checked in the unit tests. The tools run with detect_leaks=0: Open MPI's components

@@ -26,7 +26,7 @@ KNOWN_FUNCTIONS = {
     # The bond kernels: being optimised by other work (issue 15's performance follow-up); split
     # them into named steps once that lands.
     ("lib/solver/bond_forces.cpp", "kernel"),
-    ("lib/solver/bond_forces.cpp", "lps_kernel"),
+    ("lib/solver/lps_kernel.cpp", "lps_kernel"),
     ("lib/geometry/packing.cpp", "random_pack"),
     ("lib/model/quadrature.cpp", "quadrature_factors"),
     ("lib/model/slots.cpp", "apply_slots"),
