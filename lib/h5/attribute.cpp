@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <cstring>
+#include <utility>
 
 namespace pd::h5 {
 
@@ -94,31 +95,10 @@ T File::attr(const std::string& path, const std::string& name) const {
 }
 
 std::string File::attr_string(const std::string& path, const std::string& name) const {
-    if (!has_attr(path, name))
-        throw Error(name_, path, "missing attribute '" + name + "'");
-    Handle a(H5Aopen_by_name(id_.get(), path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT));
-    Handle ft(H5Aget_type(a.get()));
-    if (H5Tget_class(ft.get()) != H5T_STRING)
-        throw Error(name_, path, "attribute '" + name + "' is not a string");
-    {
-        Handle sp(H5Aget_space(a.get()));
-        if (H5Sget_simple_extent_npoints(sp.get()) != 1)
-            throw Error(name_, path, "attribute '" + name + "' is an array, expected one string");
-    }
-    if (H5Tis_variable_str(ft.get()) > 0) {
-        Handle t = vlen_string_type();
-        char* p = nullptr;
-        if (H5Aread(a.get(), t.get(), &p) < 0)
-            fail(path, "cannot read attribute " + name);
-        std::string s = p ? p : "";
-        H5free_memory(p);
-        return s;
-    }
-    std::string s(H5Tget_size(ft.get()), '\0');
-    if (H5Aread(a.get(), ft.get(), s.data()) < 0)
-        fail(path, "cannot read attribute " + name);
-    s.resize(std::strlen(s.c_str()));
-    return s;
+    auto v = attr_strings(path, name);
+    if (v.size() != 1)
+        throw Error(name_, path, "attribute '" + name + "' is an array, expected one string");
+    return std::move(v[0]);
 }
 
 std::vector<std::string> File::attr_strings(const std::string& path,
