@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: MIT
+// Stop signals: a SIGTERM after a solve's handlers went out of scope (the step loop over, the
+// file still being closed) is recorded, not fatal: the default action used to kill pd-solve on
+// a complete run (exit -15).
+#include "pipeline/run/signals.hpp"
+
+#include <gtest/gtest.h>
+
+#include <csignal>
+
+TEST(StopSignals, ASignalAfterTheSolveIsRecordedNotFatal) {
+    {
+        const pd::pipeline::run::StopSignals handlers;
+        EXPECT_EQ(pd::pipeline::run::stop_signal(), 0);
+        std::raise(SIGUSR1);
+        EXPECT_EQ(pd::pipeline::run::stop_signal(), SIGUSR1);
+    }
+    std::raise(SIGTERM); // would end this test binary with the default action
+    EXPECT_EQ(pd::pipeline::run::stop_signal(), SIGTERM);
+    const pd::pipeline::run::StopSignals again; // a new solve starts with no request
+    EXPECT_EQ(pd::pipeline::run::stop_signal(), 0);
+}
