@@ -23,10 +23,6 @@ MAX_FILE = 600
 MAX_FUNCTION = 80
 REPORT_ONLY = ("lib/pipeline/solve.cpp",)
 KNOWN_FUNCTIONS = {
-    # The bond kernels: being optimised by other work (issue 15's performance follow-up); split
-    # them into named steps once that lands.
-    ("lib/solver/bond_forces.cpp", "kernel"),
-    ("lib/solver/lps_kernel.cpp", "lps_kernel"),
     ("lib/geometry/packing.cpp", "random_pack"),
     ("lib/model/quadrature.cpp", "quadrature_factors"),
     ("lib/model/slots.cpp", "apply_slots"),
