@@ -93,13 +93,14 @@ struct Sums {
 /// enough (threaded()), else serially without entering a parallel region. over_rows_avx2 is
 /// the same loop compiled for AVX2, so that an AVX2 row inlines into it (and into its OpenMP
 /// region).
+// clang-format off
 #if defined(_OPENMP)
-#define PD_OMP_ROWS                                                                                \
-    _Pragma("omp parallel for schedule(static) reduction(+ : energy, broken, released, "           \
-            "repulsion)")
+#define PD_OMP_ROWS \
+    _Pragma("omp parallel for schedule(static) reduction(+ : energy, broken, released, repulsion)")
 #else
 #define PD_OMP_ROWS
 #endif
+// clang-format on
 #define PD_OVER_ROWS(NAME, ATTR)                                                                   \
     template <class Row>                                                                           \
     ATTR Sums NAME(std::int64_t n, Row&& row) {                                                    \
