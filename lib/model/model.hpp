@@ -37,7 +37,10 @@ struct Material {
     double poisson_ratio = 0;   ///< 1 (bond-based: fixed by the law, 1/3 plane stress, 1/4 3D)
     double fracture_energy = 0; ///< Gc, J m-2; 0 = unbreakable
     Influence influence = Influence::constant; ///< LPS only (PMB uses J = 1)
-    double bulk_modulus() const;               ///< K, Pa, from E and nu
+    /// Bonds also break when compressed beyond the critical stretch (length < xi (1 - s0); RNP:
+    /// S < -S_c), as PeriDEM does (|s| > s0, spec 1.3); off = tension only (pdgrain decision 4).
+    bool break_in_compression = false;
+    double bulk_modulus() const; ///< K, Pa, from E and nu
     bool breakable() const { return fracture_energy > 0; }
 };
 

@@ -69,23 +69,25 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
 }
 
 /// The sums of a PMB row's hot loop in two lanes (see bond_kernels.hpp): force, energy, the
-/// breaking flags.
+/// breaking flags. op = 1 + s0, ol = 1 - s0 (compressive breaking; used only when Comp).
 template <class V>
 struct PmbLanes : Lanes<V> {
-    PmbLanes(const double* x_i, double op_)
+    PmbLanes(const double* x_i, double op_, double ol_)
         : Lanes<V>(x_i)
         , op(op_)
+        , ol(ol_)
         , OP(splat(op_, V{}))
+        , OL(splat(ol_, V{}))
         , E(zero<V>())
         , B(zero<typename Mask<V>::type>()) {}
-    double op;
-    V OP, E;
+    double op, ol;
+    V OP, OL, E;
     typename Mask<V>::type B;
     int bad = 0;
 };
 
 /// Bonds k, k+1 of a PMB row into the two lanes.
-template <bool Energy, class V>
+template <bool Energy, bool Comp, class V>
 PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
@@ -97,18 +99,20 @@ PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
     if constexpr (Energy)
         L.E = add(L.E, mul(ke, ext));
     L.B = flag(L.B, l, mul(x0, L.OP));
+    if constexpr (Comp)
+        L.B = flag(L.B, mul(x0, L.OL), l); // l < xi (1 - s0)
     L.bad |= not_intact<2>(v.alive + k);
 }
 
 /// The rest of a PMB row from bond k on: pairs, the odd last bond in lane 0, then f_i and the
 /// energy from the lanes; false (f_i left alone) when a bond is broken or reaches its critical
 /// length xi (1 + s0) (`op` = 1 + s0 of the row's body: the product b.lc holds, without its
-/// load), so the caller takes the general path.
-template <bool Energy, class V>
+/// load), or, when Comp, falls below xi (1 - s0), so the caller takes the general path.
+template <bool Energy, bool Comp, class V>
 PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_t k, offset_t k1,
                         double* fi, double& e_i) {
     for (; k + 1 < k1; k += 2)
-        pmb_pair<Energy>(L, v, k);
+        pmb_pair<Energy, Comp>(L, v, k);
     double e0 = lane0(L.E);
     if (k < k1) {
         double d[3];
@@ -118,6 +122,8 @@ PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_
         if constexpr (Energy)
             e0 += ke * ext;
         L.bad |= static_cast<int>(l > v.xi[k] * L.op) | static_cast<int>(v.alive[k] != 1);
+        if constexpr (Comp)
+            L.bad |= static_cast<int>(l < v.xi[k] * L.ol);
     }
     if (L.bad | any(L.B))
         return false;
@@ -128,21 +134,21 @@ PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_
 
 /// PMB force of one row whose bonds are all intact, none breaking: the hot loop, one sqrt and
 /// one division per bond, no branch. Two lanes: V2 (portable) or __m128d (SSE2).
-template <bool Energy, class V>
-PD_INLINE bool pmb_hot(const Arrays& v, std::int64_t i, double op, offset_t k0, offset_t k1,
-                       double* fi, double& e_i) {
-    PmbLanes<V> L(v.x + 3 * i, op);
-    return pmb_rest<Energy>(L, v, i, k0, k1, fi, e_i);
+template <bool Energy, bool Comp, class V>
+PD_INLINE bool pmb_hot(const Arrays& v, std::int64_t i, double op, double ol, offset_t k0,
+                       offset_t k1, double* fi, double& e_i) {
+    PmbLanes<V> L(v.x + 3 * i, op, ol);
+    return pmb_rest<Energy, Comp>(L, v, i, k0, k1, fi, e_i);
 }
 
 #if defined(PD_KERNELS_AVX2)
 /// pmb_hot with four bonds per step in front (AVX2), then the SSE2 pair and odd bond.
-template <bool Energy>
-PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, offset_t k,
-                                    offset_t k1, double* fi, double& e_i) {
-    PmbLanes<__m128d> L(v.x + 3 * i, op);
+template <bool Energy, bool Comp>
+PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, double ol,
+                                    offset_t k, offset_t k1, double* fi, double& e_i) {
+    PmbLanes<__m128d> L(v.x + 3 * i, op, ol);
     const kernels::Wide W(v.x + 3 * i);
-    const __m256d OP = _mm256_set1_pd(op);
+    const __m256d OP = _mm256_set1_pd(op), OL = _mm256_set1_pd(ol);
     __m256d B = _mm256_setzero_pd();
     for (; k + 3 < k1; k += 4) {
         __m256d d[3];
@@ -155,21 +161,24 @@ PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, 
         if constexpr (Energy)
             L.E = kernels::fold(L.E, _mm256_mul_pd(ke, ext));
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
+        if constexpr (Comp)
+            B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OL), _CMP_LT_OQ));
         L.bad |= not_intact<4>(v.alive + k);
     }
     L.bad |= _mm256_movemask_pd(B);
-    return pmb_rest<Energy>(L, v, i, k, k1, fi, e_i);
+    return pmb_rest<Energy, Comp>(L, v, i, k, k1, fi, e_i);
 }
 #endif
 
 /// PMB row with broken bonds (repulsion) or bonds breaking now: f_i and the row's sums.
-template <bool Breakable, bool Energy>
+template <bool Breakable, bool Energy, bool Comp>
 [[gnu::noinline]] void pmb_general_row(const Arrays& v, const BodyLaw& law, std::size_t body,
                                        std::int64_t a, std::int64_t i, double& energy,
                                        double& released, double& repulsion, std::int64_t& broken) {
     double fi[3] = {0, 0, 0};
     double e_i = 0, e_rel = 0, e_rep = 0;
     const double kr = law.krep[body], rr = law.rrep[body];
+    const double lo = Comp ? law.s0_lo[body] : 0.0;
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
         const index_t j = v.nb[k];
         double d[3];
@@ -186,8 +195,9 @@ template <bool Breakable, bool Energy>
             continue;
         }
         const double ext = l - v.xi[k];
-        if (Breakable && l > v.lc[k]) {
-            // Tension only; i->j and j->i see identical l, xi: symmetric. The energy it held,
+        if (Breakable && (l > v.lc[k] || (Comp && l < v.xi[k] * lo))) {
+            // Tension (and, when Comp, compression beyond xi (1 - s0), PeriDEM's |s| > s0);
+            // i->j and j->i see identical l, xi and body: symmetric. The energy it held,
             // less half the work its force would have done over the step that broke it: the
             // trapezoid the integrator applied to the step lacks that half, so the balance
             // closes to O(dt^2), not O(dt).
@@ -241,9 +251,10 @@ PD_INLINE bool pmb_owns(const Arrays& v, const State& s, const BodyLaw& law, std
             if (!pmb_owns(v, s, law, a, i, body))                                                  \
                 return;                                                                            \
             double fi[3], e_i = 0;                                                                 \
-            if (!hot(v, i, 1.0 + law.s0[body], v.off[a], v.off[a + 1], fi, e_i)) {                 \
-                pmb_general_row<Breakable, Energy>(v, law, body, a, i, energy, released,           \
-                                                   repulsion, broken);                             \
+            if (!hot(v, i, 1.0 + law.s0[body], Comp ? law.s0_lo[body] : 0.0, v.off[a],             \
+                     v.off[a + 1], fi, e_i)) {                                                     \
+                pmb_general_row<Breakable, Energy, Comp>(v, law, body, a, i, energy, released,     \
+                                                         repulsion, broken);                       \
                 return;                                                                            \
             }                                                                                      \
             for (int c = 0; c < 3; ++c)                                                            \
@@ -254,40 +265,42 @@ PD_INLINE bool pmb_owns(const Arrays& v, const State& s, const BodyLaw& law, std
 
 /// All PMB rows with the hot loop of portable or SSE2 lanes (V).
 #define PD_ROW_ATTR __attribute__((always_inline))
-template <bool Breakable, bool Energy, class V>
+template <bool Breakable, bool Energy, bool Comp, class V>
 Sums pmb_rows(const Arrays& v, const State& s, const BodyLaw& law) {
-    return over_rows(v.n, PD_PMB_ROW((pmb_hot<Energy, V>)));
+    return over_rows(v.n, PD_PMB_ROW((pmb_hot<Energy, Comp, V>)));
 }
 #undef PD_ROW_ATTR
 
 #if defined(PD_KERNELS_AVX2)
 /// All PMB rows, compiled for AVX2 (the row and its hot loop inlined into the row loop).
 #define PD_ROW_ATTR PD_AVX2 __attribute__((always_inline))
-template <bool Breakable, bool Energy>
+template <bool Breakable, bool Energy, bool Comp>
 PD_AVX2 Sums pmb_rows_avx2(const Arrays& v, const State& s, const BodyLaw& law) {
-    return over_rows_avx2(v.n, PD_PMB_ROW(pmb_hot_avx2<Energy>));
+    return over_rows_avx2(v.n, PD_PMB_ROW((pmb_hot_avx2<Energy, Comp>)));
 }
 #undef PD_ROW_ATTR
 #endif
 #undef PD_PMB_ROW
 
-template <bool Breakable, bool Energy>
+/// Comp: some body breaks bonds in compression too (an instantiation of its own, so that the
+/// default, tension only, pays nothing for it).
+template <bool Breakable, bool Energy, bool Comp>
 BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
     const Arrays v(s, b);
     Sums r;
     switch (kernels::isa()) {
 #if defined(PD_KERNELS_AVX2)
     case Isa::avx2:
-        r = pmb_rows_avx2<Breakable, Energy>(v, s, law);
+        r = pmb_rows_avx2<Breakable, Energy, Comp>(v, s, law);
         break;
 #endif
 #if defined(__SSE2__)
     case Isa::sse2:
-        r = pmb_rows<Breakable, Energy, __m128d>(v, s, law);
+        r = pmb_rows<Breakable, Energy, Comp, __m128d>(v, s, law);
         break;
 #endif
     default:
-        r = pmb_rows<Breakable, Energy, kernels::V2>(v, s, law);
+        r = pmb_rows<Breakable, Energy, Comp, kernels::V2>(v, s, law);
     }
     return {r.energy, r.broken, r.released, r.repulsion};
 }
@@ -318,6 +331,8 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
         }
         const double C = law.rnp_c[body], bt = law.rnp_beta[body], rb = law.rnp_rbar[body];
         const double inv = 1.0 / law.rnp_inv[body];
+        // PeriDEM breaks in compression too (|S| > S_c) when the material asks for it.
+        const bool comp = law.any_compressive && law.s0_lo[body] != 0;
         double fi[3] = {0, 0, 0}, e_i = 0, e_rel = 0;
         for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
@@ -334,7 +349,7 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
             const double r = xi[k];
             const double S = dot / (r * r);
             if constexpr (Breakable) {
-                if (S > rb / std::sqrt(r)) {
+                if (S > rb / std::sqrt(r) || (comp && S < -rb / std::sqrt(r))) {
                     alive[k] = 0;
                     ++broken;
                     e_i += C * inv * beta[k] * vol[j];
@@ -405,9 +420,14 @@ BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law) {
 
 BondResult pmb_bond_forces(State& s, BondData& b, const BodyLaw& law) {
     ensure_constants(s, b, law);
+    if (law.any_breakable && law.any_compressive)
+        return law.energy ? kernel<true, true, true>(s, b, law)
+                          : kernel<true, false, true>(s, b, law);
     if (law.energy)
-        return law.any_breakable ? kernel<true, true>(s, b, law) : kernel<false, true>(s, b, law);
-    return law.any_breakable ? kernel<true, false>(s, b, law) : kernel<false, false>(s, b, law);
+        return law.any_breakable ? kernel<true, true, false>(s, b, law)
+                                 : kernel<false, true, false>(s, b, law);
+    return law.any_breakable ? kernel<true, false, false>(s, b, law)
+                             : kernel<false, false, false>(s, b, law);
 }
 
 BondResult pmb_bond_forces_reference(State& s, BondData& b, const BodyLaw& law) {

@@ -21,6 +21,7 @@ namespace {
 void size_law(BodyLaw& law, std::size_t nb, int dimension) {
     law.c.resize(nb);
     law.s0.resize(nb);
+    law.s0_lo.assign(nb, 0.0);
     law.lps.assign(nb, 0);
     law.rnp.assign(nb, 0);
     law.rnp_c.assign(nb, 0.0);
@@ -97,6 +98,10 @@ void law_constants(Forces& f) {
         }
         f.law.any_breakable =
             f.law.any_breakable || (std::isfinite(f.law.s0[b]) && !f.m.bodies.fixed[b]);
+        if (mat.break_in_compression && std::isfinite(f.law.s0[b]) && !f.m.bodies.fixed[b]) {
+            f.law.s0_lo[b] = mat.law == model::Law::rnp ? 1.0 : 1.0 - f.law.s0[b];
+            f.law.any_compressive = true;
+        }
         f.law.krep[b] =
             18.0 * mat.bulk_modulus() / (M_PI * std::pow(f.m.bodies.horizon[b], f.m.dimension + 2));
         f.law.rrep[b] = 0.95 * f.m.bodies.mesh_size[b];

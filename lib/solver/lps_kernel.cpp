@@ -47,25 +47,29 @@ struct Lps {
     const double *ka, *kt;
 };
 
-// ---- Pass 1: break bonds (tension only, symmetric inputs), then dilatation, q and P ----
+// ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
+// dilatation, q and P ----
 
-/// Pass 1's lanes of a row: the dilatation sum and the breaking flags.
+/// Pass 1's lanes of a row: the dilatation sum and the breaking flags (op = 1 + s0, ol = 1 - s0,
+/// the latter used only when Comp).
 template <class V>
 struct Lanes1 : Lanes<V> {
-    Lanes1(const double* x_i, double op_)
+    Lanes1(const double* x_i, double op_, double ol_)
         : Lanes<V>(x_i)
         , op(op_)
+        , ol(ol_)
         , OP(splat(op_, V{}))
+        , OL(splat(ol_, V{}))
         , TH(zero<V>())
         , B(zero<typename Mask<V>::type>()) {}
-    double op;
-    V OP, TH;
+    double op, ol;
+    V OP, OL, TH;
     typename Mask<V>::type B;
     int bad = 0;
 };
 
 /// Bonds k, k+1 of pass 1: u, v for pass 2 (no sqrt, division nor e there), theta's sum.
-template <class V>
+template <bool Comp, class V>
 PD_INLINE void pass1_pair(Lanes1<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
@@ -77,16 +81,18 @@ PD_INLINE void pass1_pair(Lanes1<V>& L, const Arrays& v, const Lps& w, offset_t 
     store2(w.bv + k, mul(wx, inv));
     L.TH = add(L.TH, mul(wx, e));
     L.B = flag(L.B, l, mul(x0, L.OP));
+    if constexpr (Comp)
+        L.B = flag(L.B, mul(x0, L.OL), l); // l < xi (1 - s0)
     L.bad |= not_intact<2>(v.alive + k);
 }
 
 /// The rest of pass 1 from bond k on (pairs, the odd last bond in lane 0); false when a bond is
 /// broken or breaking (the caller takes the general path), else th = the dilatation sum.
-template <class V>
+template <bool Comp, class V>
 PD_INLINE bool pass1_rest(Lanes1<V>& L, const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
                           offset_t k1, double& th) {
     for (; k + 1 < k1; k += 2)
-        pass1_pair(L, v, w, k);
+        pass1_pair<Comp>(L, v, w, k);
     double th0 = lane0(L.TH);
     if (k < k1) {
         double d[3];
@@ -96,25 +102,28 @@ PD_INLINE bool pass1_rest(Lanes1<V>& L, const Arrays& v, const Lps& w, std::int6
         w.bv[k] = wx * inv;
         th0 += wx * e;
         L.bad |= static_cast<int>(l > v.xi[k] * L.op) | static_cast<int>(v.alive[k] != 1);
+        if constexpr (Comp)
+            L.bad |= static_cast<int>(l < v.xi[k] * L.ol);
     }
     th = th0 + lane1(L.TH);
     return !(L.bad | any(L.B));
 }
 
-template <class V>
-PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double op, offset_t k0,
-                         offset_t k1, double& th) {
-    Lanes1<V> L(v.x + 3 * i, op);
-    return pass1_rest(L, v, w, i, k0, k1, th);
+template <bool Comp, class V>
+PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double op, double ol,
+                         offset_t k0, offset_t k1, double& th) {
+    Lanes1<V> L(v.x + 3 * i, op, ol);
+    return pass1_rest<Comp>(L, v, w, i, k0, k1, th);
 }
 
 #if defined(PD_KERNELS_AVX2)
 /// pass1_hot with four bonds per step in front (AVX2).
+template <bool Comp>
 PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, double op,
-                                      offset_t k, offset_t k1, double& th) {
-    Lanes1<__m128d> L(v.x + 3 * i, op);
+                                      double ol, offset_t k, offset_t k1, double& th) {
+    Lanes1<__m128d> L(v.x + 3 * i, op, ol);
     const Wide W(v.x + 3 * i);
-    const __m256d OP = _mm256_set1_pd(op), ONE = _mm256_set1_pd(1.0);
+    const __m256d OP = _mm256_set1_pd(op), OL = _mm256_set1_pd(ol), ONE = _mm256_set1_pd(1.0);
     __m256d B = _mm256_setzero_pd();
     for (; k + 3 < k1; k += 4) {
         __m256d d[3];
@@ -127,18 +136,21 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         _mm256_storeu_pd(w.bv + k, _mm256_mul_pd(wx, inv));
         L.TH = fold(L.TH, _mm256_mul_pd(wx, e));
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
+        if constexpr (Comp)
+            B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OL), _CMP_LT_OQ));
         L.bad |= not_intact<4>(v.alive + k);
     }
     L.bad |= _mm256_movemask_pd(B);
-    return pass1_rest(L, v, w, i, k, k1, th);
+    return pass1_rest<Comp>(L, v, w, i, k, k1, th);
 }
 #endif
 
 /// Pass 1 of a row with broken or breaking bonds: breaks them (alive = 2: broken in this call),
-/// th = the dilatation sum and mi = the weighted volume of the intact bonds.
-template <bool Breakable>
-[[gnu::noinline]] void pass1_general(const Arrays& v, std::int64_t a, std::int64_t i, double& th,
-                                     double& mi, bool& damaged, std::int64_t& broken) {
+/// th = the dilatation sum and mi = the weighted volume of the intact bonds. lo = 1 - s0 of the
+/// row's body when Comp (bonds shorter than xi lo break too).
+template <bool Breakable, bool Comp>
+[[gnu::noinline]] void pass1_general(const Arrays& v, std::int64_t a, std::int64_t i, double lo,
+                                     double& th, double& mi, bool& damaged, std::int64_t& broken) {
     th = 0;
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
         if (!v.alive[k]) {
@@ -148,7 +160,7 @@ template <bool Breakable>
         const index_t j = v.nb[k];
         double d[3];
         const double l = bond_d(v.x, i, j, d);
-        if (Breakable && l > v.lc[k]) {
+        if (Breakable && (l > v.lc[k] || (Comp && l < v.xi[k] * lo))) {
             v.alive[k] = 2;
             damaged = true;
             ++broken;
@@ -185,9 +197,10 @@ PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, 
         if (!pass1_owns(v, w, s, law, a, i, body))                                                 \
             return;                                                                                \
         double th = 0, mi = 0;                                                                     \
-        bool damaged = false; /* breaks beyond xi (1 + s0), as b.lc */                             \
-        if (!hot(v, w, i, 1.0 + law.s0[body], v.off[a], v.off[a + 1], th))                         \
-            pass1_general<Breakable>(v, a, i, th, mi, damaged, broken);                            \
+        bool damaged = false;                           /* breaks beyond xi (1 + s0), as b.lc */   \
+        const double lo = Comp ? law.s0_lo[body] : 0.0; /* Comp: below xi (1 - s0) */              \
+        if (!hot(v, w, i, 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], th))                     \
+            pass1_general<Breakable, Comp>(v, a, i, lo, th, mi, damaged, broken);                  \
         pass1_finish(w, i, th, mi, damaged);                                                       \
     }
 
@@ -418,10 +431,10 @@ PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, s
 
 /// Both passes over all rows with two lanes V (portable or SSE2); `between` in between.
 #define PD_ROW_ATTR __attribute__((always_inline))
-template <bool Breakable, bool Energy, class V>
+template <bool Breakable, bool Energy, bool Comp, class V>
 Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
               const std::function<void()>& between) {
-    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<V>))).broken;
+    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<Comp, V>))).broken;
     if (between)
         between(); // ghosts' dilatation and q
     Sums r = over_rows(v.n, PD_PASS2_ROW((pass2_hot<Energy, V>)));
@@ -432,10 +445,10 @@ Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
 
 #if defined(PD_KERNELS_AVX2)
 #define PD_ROW_ATTR PD_AVX2 __attribute__((always_inline))
-template <bool Breakable, bool Energy>
+template <bool Breakable, bool Energy, bool Comp>
 PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
                            const std::function<void()>& between) {
-    const std::int64_t broken = over_rows_avx2(v.n, PD_PASS1_ROW(pass1_hot_avx2)).broken;
+    const std::int64_t broken = over_rows_avx2(v.n, PD_PASS1_ROW(pass1_hot_avx2<Comp>)).broken;
     if (between)
         between();
     Sums r = over_rows_avx2(v.n, PD_PASS2_ROW(pass2_hot_avx2<Energy>));
@@ -445,7 +458,9 @@ PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const 
 #undef PD_ROW_ATTR
 #endif
 
-template <bool Breakable, bool Energy>
+/// Comp: some body breaks bonds in compression too (its own instantiation: the default pays
+/// nothing).
+template <bool Breakable, bool Energy, bool Comp>
 BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
     const Arrays v(s, b);
     const Lps w(b, law);
@@ -453,16 +468,16 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
     switch (kernels::isa()) {
 #if defined(PD_KERNELS_AVX2)
     case Isa::avx2:
-        r = lps_rows_avx2<Breakable, Energy>(v, w, s, law, between);
+        r = lps_rows_avx2<Breakable, Energy, Comp>(v, w, s, law, between);
         break;
 #endif
 #if defined(__SSE2__)
     case Isa::sse2:
-        r = lps_rows<Breakable, Energy, __m128d>(v, w, s, law, between);
+        r = lps_rows<Breakable, Energy, Comp, __m128d>(v, w, s, law, between);
         break;
 #endif
     default:
-        r = lps_rows<Breakable, Energy, V2>(v, w, s, law, between);
+        r = lps_rows<Breakable, Energy, Comp, V2>(v, w, s, law, between);
     }
     return {Energy ? r.energy : 0.0, r.broken, r.released, Energy ? r.repulsion : 0.0};
 }
@@ -472,11 +487,14 @@ BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<v
 BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
                            const std::function<void()>& between) {
     ensure_constants(s, b, law);
+    if (law.any_breakable && law.any_compressive)
+        return law.energy ? lps_kernel<true, true, true>(s, b, law, between)
+                          : lps_kernel<true, false, true>(s, b, law, between);
     if (law.energy)
-        return law.any_breakable ? lps_kernel<true, true>(s, b, law, between)
-                                 : lps_kernel<false, true>(s, b, law, between);
-    return law.any_breakable ? lps_kernel<true, false>(s, b, law, between)
-                             : lps_kernel<false, false>(s, b, law, between);
+        return law.any_breakable ? lps_kernel<true, true, false>(s, b, law, between)
+                                 : lps_kernel<false, true, false>(s, b, law, between);
+    return law.any_breakable ? lps_kernel<true, false, false>(s, b, law, between)
+                             : lps_kernel<false, false, false>(s, b, law, between);
 }
 
 } // namespace pd::solver

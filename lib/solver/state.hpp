@@ -134,7 +134,10 @@ struct BodyLaw {
     std::vector<std::uint8_t> rnp;                          ///< 1 = RNP body (neither: PMB)
     std::vector<double> rnp_c, rnp_beta, rnp_rbar, rnp_inv; ///< RNP constants per body
     std::vector<double> c;                                  ///< PMB micromodulus, N m-6
-    std::vector<double> s0;    ///< critical stretch (inf = unbreakable)
+    std::vector<double> s0; ///< critical stretch (inf = unbreakable)
+    /// Compressive breaking (Material::break_in_compression): 1 - s0, bonds shorter than
+    /// xi (1 - s0) break; 0 = tension only (no length is below 0). RNP: 1 = S < -S_c breaks.
+    std::vector<double> s0_lo;
     std::vector<double> kappa; ///< LPS bulk modulus of the d-dimensional problem, Pa
     std::vector<double> mu;    ///< LPS shear modulus, Pa
     double alpha = 15;         ///< LPS shear factor: 15 (3D), 8 (2D)
@@ -143,6 +146,7 @@ struct BodyLaw {
     int dimension = 2;
     double dt = 0; ///< time step (s): the fracture energy's step correction
     bool any_breakable = false;
+    bool any_compressive = false; ///< some moving breakable body breaks in compression
     bool any_pmb = false;
     bool any_lps = false;
     bool any_rnp = false;

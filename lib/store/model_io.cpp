@@ -53,6 +53,8 @@ void write_materials(h5::File& f, const model::Model& m) {
         put_scalar(f, g + "/youngs_modulus", mat.youngs_modulus, "Pa");
         put_scalar(f, g + "/poisson_ratio", mat.poisson_ratio, "1");
         put_scalar(f, g + "/fracture_energy", mat.fracture_energy, "J m-2");
+        put_scalar(f, g + "/break_in_compression",
+                   static_cast<std::int32_t>(mat.break_in_compression), "1");
     }
 }
 

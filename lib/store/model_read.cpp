@@ -73,6 +73,9 @@ void read_materials(const h5::File& f, model::Model& m) {
         mat.youngs_modulus = get_scalar<double>(f, g + "/youngs_modulus");
         mat.poisson_ratio = get_scalar<double>(f, g + "/poisson_ratio");
         mat.fracture_energy = get_scalar<double>(f, g + "/fracture_energy");
+        // Absent (files before 1.4.0) = tension only.
+        mat.break_in_compression = f.exists(g + "/break_in_compression") &&
+                                   get_scalar<std::int32_t>(f, g + "/break_in_compression") != 0;
         if (!(mat.density > 0) || !(mat.youngs_modulus > 0))
             throw SchemaError(f.name(), g, "density and youngs_modulus must be positive");
         // Far beyond any solid (diamond: E ~ 1e12 Pa, osmium: 2.2e4 kg/m3); values past these

@@ -288,3 +288,25 @@ def test_rotating_meshed_wall_imports_as_rotation(pd_pack, shared_dir, tmp_path)
     np.testing.assert_allclose(x[:, 0], cx + np.cos(th) * rx - np.sin(th) * ry, atol=1e-15)
     np.testing.assert_allclose(x[:, 1], cy + np.sin(th) * rx + np.cos(th) * ry, atol=1e-15)
     assert abs(th) > 0.02  # it did turn
+
+
+def test_parity_breaks_bonds_in_compression(pd_pack, shared_dir, tmp_path):
+    """PeriDEM breaks bonds at |s| > s0 (spec 1.3): --parity peridem sets the material's
+    break_in_compression (scene key and /materials/<name>/break_in_compression = 1); the default
+    mode keeps pdgrain's tension-only breaking (0) and says so."""
+    deck = shared_dir / "data" / "peridem" / "single_particle_circle" / "input_0.yaml"
+    r = run(pd_pack, "--from-peridem", deck, "--parity", "peridem", "-o", tmp_path / "p.h5",
+            "--write-scene", tmp_path / "p.json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads((tmp_path / "p.json").read_text())["materials"]["zone_1"][
+        "break_in_compression"] is True
+    with h5py.File(tmp_path / "p.h5", "r") as f:
+        assert f["materials/zone_1/break_in_compression"][()] == 1
+    r = run(pd_pack, "--from-peridem", deck, "-o", tmp_path / "d.h5", "--write-scene",
+            tmp_path / "d.json")
+    assert r.returncode == 0, r.stderr
+    assert "tension only" in r.stdout + r.stderr
+    assert "break_in_compression" not in json.loads((tmp_path / "d.json").read_text())[
+        "materials"]["zone_1"]
+    with h5py.File(tmp_path / "d.h5", "r") as f:
+        assert f["materials/zone_1/break_in_compression"][()] == 0

@@ -74,6 +74,7 @@ Elastic elastic_constants(const YAML::Node& mn, const std::string& w, const std:
 struct MaterialReader {
     Import& im;
     bool lps_noted = false;
+    bool compression_noted = false;
     double horizon = 0, ratio = 0; ///< of the last zone read
 
     void read(int k, std::vector<YAML::Node>& mat_nodes, bool plane_strain_deck) {
@@ -110,15 +111,33 @@ struct MaterialReader {
         else if (has_nu || (K > 0 && G > 0))
             log.info("{}: law {} fixes its Poisson ratio; the deck's nu = {:.4g} is not used", w,
                      law, nu);
-        if (Gc > 0)
+        if (Gc > 0) {
             m["fracture_energy"] = Gc;
-        else
+            breaking(w, m);
+        } else
             log.warn("{}: no Gc or KIc: the material is unbreakable", w);
         influence(mn, w, law, m);
         im.plane_strain = im.plane_strain || flag_or(mn, w, "Is_Plane_Strain", false);
         horizon = num_or(mn, w, "Horizon", 0);
         ratio = num_or(mn, w, "Horizon_Mesh_Ratio", 0);
         im.materials[fmt::format("zone_{}", k)] = m;
+    }
+
+    /// PeriDEM breaks bonds in compression too (|s| > s0, spec 1.3); pdgrain in tension only
+    /// unless the material sets break_in_compression, which --parity peridem does.
+    void breaking(const std::string& w, json& m) {
+        if (im.parity) {
+            m["break_in_compression"] = true;
+            if (!compression_noted)
+                im.log.info("{}: --parity peridem: bonds also break in compression (|s| > s0, "
+                            "as PeriDEM; break_in_compression)",
+                            w);
+        } else if (!compression_noted)
+            im.log.info("{}: bonds break in tension only (pdgrain's default); PeriDEM also "
+                        "breaks them in compression (|s| > s0): --parity peridem sets "
+                        "break_in_compression",
+                        w);
+        compression_noted = true;
     }
 
     /// PDState in 2D: pdgrain's consistent 2D LPS, or with --parity peridem the equivalent of

@@ -76,7 +76,8 @@ model::Material parse_material(json::const_iterator it, const model::Model& m) {
     const std::string w = "materials." + it.key();
     check_keys(*it, w,
                {"law", "density", "youngs_modulus", "bulk_modulus", "shear_modulus",
-                "poisson_ratio", "fracture_energy", "fracture_toughness", "influence"});
+                "poisson_ratio", "fracture_energy", "fracture_toughness", "influence",
+                "break_in_compression"});
     model::Material mat;
     mat.name = it.key();
     for (char ch : mat.name)
@@ -105,6 +106,8 @@ model::Material parse_material(json::const_iterator it, const model::Model& m) {
         throw ConfigError(w + ".fracture_energy", "must be >= 0 (0 = unbreakable)");
     if (mat.law == model::Law::rnp && !(mat.fracture_energy > 0))
         throw ConfigError(w + ".fracture_energy", "the RNP law needs Gc > 0");
+    // PeriDEM compatibility (spec 1.3: |s| > s0): bonds break in compression too.
+    mat.break_in_compression = boolean(*it, w, "break_in_compression", false);
     return mat;
 }
 
