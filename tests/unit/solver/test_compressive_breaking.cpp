@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
@@ -100,7 +101,7 @@ TEST(CompressiveBreaking, BreaksBelowXiOneMinusS0OnlyWithTheSwitchOnEveryPath) {
                     law + " " + std::to_string(dim) + "D switch " + (on ? "on" : "off");
                 const auto all = paths();
                 const Eval ref = evaluate(m, all[0]);
-                std::int64_t squeezed = 0, broken = 0, intact = 0;
+                std::int64_t squeezed = 0, stretched = 0, broken = 0, intact = 0;
                 for (std::size_t a = 0; a < ref.rows.size(); ++a) {
                     const auto i = static_cast<std::size_t>(ref.rows[a]);
                     for (auto k = ref.off[a]; k < ref.off[a + 1]; ++k) {
@@ -111,11 +112,14 @@ TEST(CompressiveBreaking, BreaksBelowXiOneMinusS0OnlyWithTheSwitchOnEveryPath) {
                             l2 += std::pow(ref.x[3 * j + c] - ref.x[3 * i + c], 2);
                         const double l = std::sqrt(l2), xi = ref.xi[kk];
                         const double s0 = ref.lc[kk] / xi - 1;
-                        ASSERT_LT(l, xi * (1 + s0)) << what << ": no bond in tension here";
-                        if (l < xi * (1 - s0) * (1 - 1e-9)) {
+                        if (l > xi * (1 + s0) * (1 + 1e-9)) { // across the squeeze's edge
+                            ++stretched;
+                            EXPECT_EQ(ref.alive[kk], 0) << what << " bond " << k;
+                        } else if (l < xi * (1 - s0) * (1 - 1e-9)) {
                             ++squeezed;
                             EXPECT_EQ(ref.alive[kk], on ? 0 : 1) << what << " bond " << k;
-                        } else if (l > xi * (1 - s0) * (1 + 1e-9)) {
+                        } else if (l > xi * (1 - s0) * (1 + 1e-9) &&
+                                   l < xi * (1 + s0) * (1 - 1e-9)) {
                             ++intact;
                             EXPECT_EQ(ref.alive[kk], 1) << what << " bond " << k;
                         }
@@ -124,11 +128,7 @@ TEST(CompressiveBreaking, BreaksBelowXiOneMinusS0OnlyWithTheSwitchOnEveryPath) {
                 }
                 EXPECT_GT(squeezed, static_cast<std::int64_t>(ref.xi.size()) / 5) << what;
                 EXPECT_GT(intact, static_cast<std::int64_t>(ref.xi.size()) / 5) << what;
-                EXPECT_EQ(broken, on ? squeezed : 0) << what;
-                if (on) // the energy the squeezed bonds held is released, not lost
-                    EXPECT_GT(ref.fracture, 0.0) << what;
-                else
-                    EXPECT_EQ(ref.fracture, 0.0) << what;
+                EXPECT_EQ(broken, on ? squeezed + stretched : stretched) << what;
                 for (std::size_t p = 1; p < all.size(); ++p) {
                     const Eval r = evaluate(m, all[p]);
                     const std::string on_path = what + ", path " + std::to_string(int(all[p]));
@@ -140,7 +140,7 @@ TEST(CompressiveBreaking, BreaksBelowXiOneMinusS0OnlyWithTheSwitchOnEveryPath) {
             }
 }
 
-/// A plate squeezed at 2 m/s top and bottom.
+/// A plate squeezed at 1 m/s top and bottom.
 std::string squeezed_plate(const std::string& law, bool on) {
     return R"({"dimension": 2, "title": "plate",
       "materials": {"m": {"law": ")" +
@@ -154,18 +154,19 @@ std::string squeezed_plate(const std::string& law, bool on) {
       "particles": [{"shape": "plate", "center": [0, 0], "material": "m"}],
       "loading": {"conditions": [
         {"name": "top", "kind": "displacement", "region": {"min": [-1, 0.0046], "max": [1, 1]},
-         "components": ["y"], "time_function": "linear", "value": -2.0},
+         "components": ["y"], "time_function": "linear", "value": -1.0},
         {"name": "bottom", "kind": "displacement", "region": {"min": [-1, -1], "max": [1, 4e-4]},
-         "components": ["y"], "time_function": "linear", "value": 2.0}]},
+         "components": ["y"], "time_function": "linear", "value": 1.0}]},
       "solver": {"final_time": 1e-4}})";
 }
 
 TEST(CompressiveBreaking, EnergyBalanceClosesThroughCompressiveBreaking) {
     // KE + elastic + repulsion + fracture - external work keeps its t = 0 value while bonds
     // break in compression (the released energy is counted as for tension); without the switch
-    // the same squeeze breaks none of them.
-    for (const char* law : {"pmb", "lps"})
-        for (bool on : {true, false}) {
+    // the same squeeze breaks only the bonds the lateral (Poisson) expansion stretches.
+    for (const char* law : {"pmb", "lps"}) {
+        std::int64_t broken_off = 0;
+        for (bool on : {false, true}) {
             const auto m = pipeline::build_scene(squeezed_plate(law, on), "t", quiet);
             solver::Solver s(m);
             s.set_dt(0.7 * s.stable_dt().limit);
@@ -181,14 +182,19 @@ TEST(CompressiveBreaking, EnergyBalanceClosesThroughCompressiveBreaking) {
             }
             const auto o = s.observe();
             const std::string what = std::string(law) + (on ? " on" : " off");
+            EXPECT_LT(worst / scale, 5e-3) << what;
+            std::printf("%s: %lld bonds broken, fracture energy %.3g of %.3g J in play, drift "
+                        "%.2g\n",
+                        what.c_str(), static_cast<long long>(o.broken_bonds), o.fracture_energy,
+                        scale, worst / scale);
             if (!on) {
-                EXPECT_EQ(o.broken_bonds, 0) << what;
+                broken_off = o.broken_bonds;
                 continue;
             }
-            EXPECT_GT(o.broken_bonds, 500) << what;
+            EXPECT_GT(o.broken_bonds, broken_off + 500) << what;
             EXPECT_GT(o.fracture_energy, 0.01 * scale) << what;
-            EXPECT_LT(worst / scale, 5e-3) << what;
         }
+    }
 }
 
 } // namespace
