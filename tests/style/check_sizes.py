@@ -27,17 +27,7 @@ KNOWN_FUNCTIONS = {
     # them into named steps once that lands.
     ("lib/solver/bond_forces.cpp", "kernel"),
     ("lib/solver/lps_kernel.cpp", "lps_kernel"),
-    ("lib/geometry/packing.cpp", "random_pack"),
     ("lib/model/quadrature.cpp", "quadrature_factors"),
-    ("lib/model/slots.cpp", "apply_slots"),
-    ("lib/partition/graph.cpp", "body_graph"),
-    ("lib/pipeline/post.cpp", "post"),
-    ("lib/post/crack.cpp", "write_crack_csv"),
-    ("lib/post/crack_arrival.cpp", "fit_crack"),
-    ("lib/post/grains.cpp", "write_grains_csv"),
-    ("lib/post/vtk_export.cpp", "write_vtu_series"),
-    ("lib/post/vtk_export_walls.cpp", "wall_outline"),
-    ("lib/post/walls.cpp", "write_walls_csv"),
     ("lib/store/frames.cpp", "ObservableWriter::flush"),
 }
 SOURCES = ("*.cpp", "*.hpp", "*.h", "*.cc")
