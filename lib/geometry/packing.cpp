@@ -67,15 +67,20 @@ class Grid {
         head_[k] = i;
     }
     /// Calls f(j) for every grain in the 3^dim cells around p (all j with |c_j - p| < cell).
+    /// The grid's sizes and lists are read into locals first: f may write through references
+    /// the compiler cannot tell apart from them, which would reload them on every iteration.
     template <class F>
     void for_near(const Vec3& p, F&& f) const {
         const auto c = cell_of(p);
         const long dz = dim_ == 3 ? 1 : 0;
-        for (long z = std::max(0L, c[2] - dz); z <= std::min(n_[2] - 1, c[2] + dz); ++z)
-            for (long y = std::max(0L, c[1] - 1); y <= std::min(n_[1] - 1, c[1] + 1); ++y)
-                for (long x = std::max(0L, c[0] - 1); x <= std::min(n_[0] - 1, c[0] + 1); ++x)
-                    for (std::int32_t j = head_[index(x, y, z)]; j >= 0;
-                         j = next_[static_cast<std::size_t>(j)])
+        const long nx = n_[0], ny = n_[1], nz = n_[2];
+        const std::int32_t* head = head_.data();
+        const std::int32_t* next = next_.data();
+        for (long z = std::max(0L, c[2] - dz); z <= std::min(nz - 1, c[2] + dz); ++z)
+            for (long y = std::max(0L, c[1] - 1); y <= std::min(ny - 1, c[1] + 1); ++y)
+                for (long x = std::max(0L, c[0] - 1); x <= std::min(nx - 1, c[0] + 1); ++x)
+                    for (std::int32_t j = head[static_cast<std::size_t>((z * ny + y) * nx + x)];
+                         j >= 0; j = next[static_cast<std::size_t>(j)])
                         f(j);
     }
 
