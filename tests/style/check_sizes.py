@@ -28,7 +28,6 @@ KNOWN_FUNCTIONS = {
     ("lib/solver/bond_forces.cpp", "kernel"),
     ("lib/solver/lps_kernel.cpp", "lps_kernel"),
     ("lib/geometry/packing.cpp", "random_pack"),
-    ("lib/model/quadrature.cpp", "quadrature_factors"),
     ("lib/model/slots.cpp", "apply_slots"),
     ("lib/partition/graph.cpp", "body_graph"),
     ("lib/pipeline/post.cpp", "post"),
