@@ -448,7 +448,7 @@ criterion and the uncorrected LPS strip's crossing of zero (+0.011 % at h = 0.02
 git history (RESULTS.md before this change).
 
 **What limits the finest levels: the discretisation's surface layer.** With the exact reference
-every wave row converges at order 1.0 (2D) and 1.0-1.4 (3D), monotonically, in the ratio of a
+every wave row converges at order 0.94-1.02 (2D) and 0.7-1.4 (3D), monotonically, in the ratio of a
 layer of width ~delta to the section: the uncorrected PMB strip -4.61 / -2.27 / -1.12 / -0.56 %
 halves with h exactly. The plate's strain is the slope of u_x over nodes 2 delta from the free
 edges and 1 mm + 2 delta from the loaded bands (no surface node in it); it is still too large
