@@ -484,13 +484,13 @@ plate (PMB +0.002 %, LPS -0.03 %), the strip (PMB +0.055 %, LPS +0.072 %), the 3
 +2.66 / +1.02 / +0.50 % for the 20 mm bar at the coarser three: the length moves it by < 0.04 %).
 The 20 mm LPS bar at h = 0.05 mm (709 k nodes, about 16 x the 52 CPU s of h = 0.1 mm) was not
 run. *Why LPS 3D is worse than PMB 3D:* it is not specific to 3D: with the correction the LPS
-residual is 1.4-1.7 x the PMB one in 2D too (strip +0.57 / +0.41 % at h = 0.2 mm, +0.072 / +0.055
-% at 0.025 mm; bar +2.66 / +1.54 %, +0.50 / +0.35 %), and the bar's section has twice the
-surface per area of the strip's (4 faces and 4 edges over W^2 against 2 edges over W), hence
-2-3 x the 2D residual at the same h. What the LPS correction leaves is most likely the
-dilatation of truncated families (the correction matches the n^4 moments, which fix the
-deviatoric energy; theta_i = d / m_i sum w e xi beta V is left as the truncated family computes
-it); not verified here. Without the correction only the strip's LPS row is within 0.5 % (+0.39 % at
+residual is 1.3-1.4 x the PMB one in 2D (strip +0.57 / +0.41 % at h = 0.2 mm, +0.072 / +0.055 %
+at 0.025 mm) and 1.45-1.7 x in 3D (bar +2.66 / +1.54 % at 0.4 mm, +0.50 / +0.35 % at 0.1 mm);
+and the bar's section has twice the surface per area of the strip's (4 faces over W^2 against 2
+edges over W): at the same h the 3D residual is 1.7 x (PMB) and 1.8 x (LPS) the 2D one (h =
+0.1 mm). What the LPS correction leaves is most likely the dilatation of truncated families (it
+matches the n^4 moments, which set the deviatoric energy; theta_i = d / m_i sum w e xi beta V
+stays as the truncated family computes it); not verified here. Without the correction only the strip's LPS row is within 0.5 % (+0.39 % at
 h = 0.025 mm; the LPS plate -0.63 %); the others would need delta / W <= ~1.5 % (the plate at
 h = 0.02 mm, the 3D bar at h = 0.025 mm, 5.7 M nodes): beyond this benchmark's budget.
 
