@@ -490,9 +490,11 @@ and the bar's section has twice the surface per area of the strip's (4 faces ove
 edges over W): at the same h the 3D residual is 1.7 x (PMB) and 1.8 x (LPS) the 2D one (h =
 0.1 mm). What the LPS correction leaves is most likely the dilatation of truncated families (it
 matches the n^4 moments, which set the deviatoric energy; theta_i = d / m_i sum w e xi beta V
-stays as the truncated family computes it); not verified here. Without the correction only the strip's LPS row is within 0.5 % (+0.39 % at
-h = 0.025 mm; the LPS plate -0.63 %); the others would need delta / W <= ~1.5 % (the plate at
-h = 0.02 mm, the 3D bar at h = 0.025 mm, 5.7 M nodes): beyond this benchmark's budget.
+stays as the truncated family computes it); not verified here.
+
+Without the correction only the strip's LPS row is within 0.5 % (+0.39 % at h = 0.025 mm; the
+LPS plate -0.63 %); the others would need delta / W <= ~1.5 % (the plate at h = 0.02 mm, the 3D
+bar at h = 0.025 mm, 5.7 M nodes): beyond this benchmark's budget.
 
 **Plate with a hole** (`hole`): Kirsch's displacement held on the outer band, so the reference is
 exact and the error is the discretisation's alone: the relative L2 error of the displacement
