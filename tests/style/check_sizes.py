@@ -38,7 +38,6 @@ KNOWN_FUNCTIONS = {
     ("lib/post/vtk_export.cpp", "write_vtu_series"),
     ("lib/post/vtk_export_walls.cpp", "wall_outline"),
     ("lib/post/walls.cpp", "write_walls_csv"),
-    ("lib/store/frames.cpp", "ObservableWriter::flush"),
 }
 SOURCES = ("*.cpp", "*.hpp", "*.h", "*.cc")
 
