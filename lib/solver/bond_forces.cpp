@@ -68,25 +68,9 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
     return {energy, broken, 0.0, 0.0};
 }
 
-/// The sums of a PMB row's hot loop in two lanes (see bond_kernels.hpp): force, energy, the
-/// breaking flags.
-template <class V>
-struct PmbLanes : Lanes<V> {
-    PmbLanes(const double* x_i, double op_)
-        : Lanes<V>(x_i)
-        , op(op_)
-        , OP(splat(op_, V{}))
-        , E(zero<V>())
-        , B(zero<typename Mask<V>::type>()) {}
-    double op;
-    V OP, E;
-    typename Mask<V>::type B;
-    int bad = 0;
-};
-
 /// Bonds k, k+1 of a PMB row into the two lanes.
 template <bool Energy, class V>
-PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
+PD_INLINE void pmb_pair(CheckedLanes<V>& L, const Arrays& v, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
     const V l = length(d);
@@ -95,7 +79,7 @@ PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
     const V ke = mul(load2(v.kb + k, V{}), ext);
     L.add_force(div(ke, l), d);
     if constexpr (Energy)
-        L.E = add(L.E, mul(ke, ext));
+        L.S = add(L.S, mul(ke, ext));
     L.B = flag(L.B, l, mul(x0, L.OP));
     L.bad |= not_intact<2>(v.alive + k);
 }
@@ -105,11 +89,11 @@ PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
 /// length xi (1 + s0) (`op` = 1 + s0 of the row's body: the product b.lc holds, without its
 /// load), so the caller takes the general path.
 template <bool Energy, class V>
-PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_t k, offset_t k1,
-                        double* fi, double& e_i) {
+PD_INLINE bool pmb_rest(CheckedLanes<V>& L, const Arrays& v, std::int64_t i, offset_t k,
+                        offset_t k1, double* fi, double& e_i) {
     for (; k + 1 < k1; k += 2)
         pmb_pair<Energy>(L, v, k);
-    double e0 = lane0(L.E);
+    double e0 = lane0(L.S);
     if (k < k1) {
         double d[3];
         const double l = bond_d(v.x, i, v.nb[k], d);
@@ -122,7 +106,7 @@ PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_
     if (L.bad | any(L.B))
         return false;
     L.sum(fi);
-    e_i = e0 + lane1(L.E);
+    e_i = e0 + lane1(L.S);
     return true;
 }
 
@@ -131,7 +115,7 @@ PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_
 template <bool Energy, class V>
 PD_INLINE bool pmb_hot(const Arrays& v, std::int64_t i, double op, offset_t k0, offset_t k1,
                        double* fi, double& e_i) {
-    PmbLanes<V> L(v.x + 3 * i, op);
+    CheckedLanes<V> L(v.x + 3 * i, op);
     return pmb_rest<Energy>(L, v, i, k0, k1, fi, e_i);
 }
 
@@ -140,7 +124,7 @@ PD_INLINE bool pmb_hot(const Arrays& v, std::int64_t i, double op, offset_t k0, 
 template <bool Energy>
 PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, offset_t k,
                                     offset_t k1, double* fi, double& e_i) {
-    PmbLanes<__m128d> L(v.x + 3 * i, op);
+    CheckedLanes<__m128d> L(v.x + 3 * i, op);
     const kernels::Wide W(v.x + 3 * i);
     const __m256d OP = _mm256_set1_pd(op);
     __m256d B = _mm256_setzero_pd();
@@ -153,7 +137,7 @@ PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, 
         const __m256d ke = _mm256_mul_pd(_mm256_loadu_pd(v.kb + k), ext);
         W.add_force(L, _mm256_div_pd(ke, l), d);
         if constexpr (Energy)
-            L.E = kernels::fold(L.E, _mm256_mul_pd(ke, ext));
+            L.S = kernels::fold(L.S, _mm256_mul_pd(ke, ext));
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
         L.bad |= not_intact<4>(v.alive + k);
     }
