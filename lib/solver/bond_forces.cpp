@@ -8,21 +8,14 @@
 #include <cstring>
 #include <functional>
 #include <limits>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace pd::solver {
 
 using kernels::ensure_constants;
-using kernels::over_rows;
-using kernels::Sums;
-#if defined(__SSE2__)
-using kernels::gather2;
-using kernels::lanes;
-#endif
 
 namespace {
+
+using namespace kernels;
 
 /// The reference loop of the PMB kernel as it was before issue 15 (stretch, two divisions per
 /// bond), kept for solver_bench's side-by-side: same forces to rounding.
@@ -75,177 +68,211 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
     return {energy, broken, 0.0, 0.0};
 }
 
-/// PMB force of one row whose bonds are all intact, none breaking: the hot loop. Per bond one
-/// sqrt and one division, no branch; returns false (and leaves f_i alone) when a bond is broken
-/// or reaches its critical length xi (1 + s0) (`op` = 1 + s0 of the row's body: the product
-/// b.lc holds, without its load), so the caller takes the general path.
-/// Two lanes: bond k0 + 2m + L is summed in lane L, the odd last bond in lane 0, f_i is lane 0
-/// plus lane 1. With SSE2 the lanes are one 16-byte register (sqrtpd, divpd: the divider is the
-/// loop's bottleneck); elsewhere the same operations in the same order, so the force does not
-/// depend on the CPU (nor on the rank: a row is summed whole on one rank).
-template <bool Energy>
-inline bool pmb_row_intact(const double* x, std::int64_t i, const index_t* nb, const double* xi,
-                           const double* kb, double op, const std::uint8_t* alive, offset_t k0,
-                           offset_t k1, double* fi, double& e_i) {
-    const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-    double f[2][3] = {{0, 0, 0}, {0, 0, 0}}, e[2] = {0, 0};
-    int bad = 0;
-    // One bond into lane L, the operations of the SSE2 loop one lane at a time.
-    auto bond = [&](offset_t k, int L) {
-        const std::int64_t j = nb[k];
-        const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-        const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-        const double ext = l - xi[k];
-        const double ke = kb[k] * ext;
-        const double a = ke / l;
-        f[L][0] += a * d0;
-        f[L][1] += a * d1;
-        f[L][2] += a * d2;
+/// Bonds k, k+1 of a PMB row into the two lanes.
+template <bool Energy, class V>
+PD_INLINE void pmb_pair(CheckedLanes<V>& L, const Arrays& v, offset_t k) {
+    V d[3];
+    gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
+    const V l = length(d);
+    const V x0 = load2(v.xi + k, V{});
+    const V ext = sub(l, x0);
+    const V ke = mul(load2(v.kb + k, V{}), ext);
+    L.add_force(div(ke, l), d);
+    if constexpr (Energy)
+        L.S = add(L.S, mul(ke, ext));
+    L.B = flag(L.B, l, mul(x0, L.OP));
+    L.bad |= not_intact<2>(v.alive + k);
+}
+
+/// The rest of a PMB row from bond k on: pairs, the odd last bond in lane 0, then f_i and the
+/// energy from the lanes; false (f_i left alone) when a bond is broken or reaches its critical
+/// length xi (1 + s0) (`op` = 1 + s0 of the row's body: the product b.lc holds, without its
+/// load), so the caller takes the general path.
+template <bool Energy, class V>
+PD_INLINE bool pmb_rest(CheckedLanes<V>& L, const Arrays& v, std::int64_t i, offset_t k,
+                        offset_t k1, double* fi, double& e_i) {
+    for (; k + 1 < k1; k += 2)
+        pmb_pair<Energy>(L, v, k);
+    double e0 = lane0(L.S);
+    if (k < k1) {
+        double d[3];
+        const double l = bond_d(v.x, i, v.nb[k], d);
+        const double ext = l - v.xi[k], ke = v.kb[k] * ext;
+        L.add_force0(ke / l, d);
         if constexpr (Energy)
-            e[L] += ke * ext;
-        bad |= static_cast<int>(l > xi[k] * op) | static_cast<int>(alive[k] != 1);
-    };
-    offset_t k = k0;
-#if defined(__SSE2__)
-    {
-        __m128d F0 = _mm_setzero_pd(), F1 = _mm_setzero_pd(), F2 = _mm_setzero_pd();
-        __m128d E = _mm_setzero_pd(), B = _mm_setzero_pd();
-        const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
-        const __m128d OP = _mm_set1_pd(op);
-        for (; k + 1 < k1; k += 2) {
-            const double* pa = x + 3 * static_cast<std::int64_t>(nb[k]);
-            const double* pb = x + 3 * static_cast<std::int64_t>(nb[k + 1]);
-            const __m128d xa = _mm_loadu_pd(pa), xb = _mm_loadu_pd(pb);
-            const __m128d d0 = _mm_sub_pd(_mm_unpacklo_pd(xa, xb), X0);
-            const __m128d d1 = _mm_sub_pd(_mm_unpackhi_pd(xa, xb), X1);
-            const __m128d d2 = _mm_sub_pd(_mm_loadh_pd(_mm_load_sd(pa + 2), pb + 2), X2);
-            const __m128d r2 =
-                _mm_add_pd(_mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2));
-            const __m128d l = _mm_sqrt_pd(r2);
-            const __m128d x0 = _mm_loadu_pd(xi + k);
-            const __m128d ext = _mm_sub_pd(l, x0);
-            const __m128d ke = _mm_mul_pd(_mm_loadu_pd(kb + k), ext);
-            const __m128d a = _mm_div_pd(ke, l);
-            F0 = _mm_add_pd(F0, _mm_mul_pd(a, d0));
-            F1 = _mm_add_pd(F1, _mm_mul_pd(a, d1));
-            F2 = _mm_add_pd(F2, _mm_mul_pd(a, d2));
-            if constexpr (Energy)
-                E = _mm_add_pd(E, _mm_mul_pd(ke, ext));
-            B = _mm_or_pd(B, _mm_cmpgt_pd(l, _mm_mul_pd(x0, OP)));
-            std::uint16_t al;
-            std::memcpy(&al, alive + k, 2);
-            bad |= static_cast<int>(al != 0x0101);
-        }
-        alignas(16) double t[2];
-        _mm_store_pd(t, F0);
-        f[0][0] = t[0], f[1][0] = t[1];
-        _mm_store_pd(t, F1);
-        f[0][1] = t[0], f[1][1] = t[1];
-        _mm_store_pd(t, F2);
-        f[0][2] = t[0], f[1][2] = t[1];
-        _mm_store_pd(t, E);
-        e[0] = t[0], e[1] = t[1];
-        bad |= _mm_movemask_pd(B);
+            e0 += ke * ext;
+        L.bad |= static_cast<int>(l > v.xi[k] * L.op) | static_cast<int>(v.alive[k] != 1);
     }
-#else
-    for (; k + 1 < k1; k += 2) {
-        bond(k, 0);
-        bond(k + 1, 1);
-    }
-#endif
-    if (k < k1)
-        bond(k, 0);
-    if (bad)
+    if (L.bad | any(L.B))
         return false;
-    fi[0] = f[0][0] + f[1][0];
-    fi[1] = f[0][1] + f[1][1];
-    fi[2] = f[0][2] + f[1][2];
-    e_i = e[0] + e[1];
+    L.sum(fi);
+    e_i = e0 + lane1(L.S);
     return true;
 }
 
+/// PMB force of one row whose bonds are all intact, none breaking: the hot loop, one sqrt and
+/// one division per bond, no branch. Two lanes: V2 (portable) or __m128d (SSE2).
+template <bool Energy, class V>
+PD_INLINE bool pmb_hot(const Arrays& v, std::int64_t i, double op, offset_t k0, offset_t k1,
+                       double* fi, double& e_i) {
+    CheckedLanes<V> L(v.x + 3 * i, op);
+    return pmb_rest<Energy>(L, v, i, k0, k1, fi, e_i);
+}
+
+#if defined(PD_KERNELS_AVX2)
+/// pmb_hot with four bonds per step in front (AVX2), then the SSE2 pair and odd bond.
+template <bool Energy>
+PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, offset_t k,
+                                    offset_t k1, double* fi, double& e_i) {
+    CheckedLanes<__m128d> L(v.x + 3 * i, op);
+    const kernels::Wide W(v.x + 3 * i);
+    const __m256d OP = _mm256_set1_pd(op);
+    __m256d B = _mm256_setzero_pd();
+    for (; k + 3 < k1; k += 4) {
+        __m256d d[3];
+        kernels::gather4(v.x, v.nb + k, W.X, d);
+        const __m256d l = kernels::length4(d);
+        const __m256d x0 = _mm256_loadu_pd(v.xi + k);
+        const __m256d ext = _mm256_sub_pd(l, x0);
+        const __m256d ke = _mm256_mul_pd(_mm256_loadu_pd(v.kb + k), ext);
+        W.add_force(L, _mm256_div_pd(ke, l), d);
+        if constexpr (Energy)
+            L.S = kernels::fold(L.S, _mm256_mul_pd(ke, ext));
+        B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
+        L.bad |= not_intact<4>(v.alive + k);
+    }
+    L.bad |= _mm256_movemask_pd(B);
+    return pmb_rest<Energy>(L, v, i, k, k1, fi, e_i);
+}
+#endif
+
+/// PMB row with broken bonds (repulsion) or bonds breaking now: f_i and the row's sums.
+template <bool Breakable, bool Energy>
+[[gnu::noinline]] void pmb_general_row(const Arrays& v, const BodyLaw& law, std::size_t body,
+                                       std::int64_t a, std::int64_t i, double& energy,
+                                       double& released, double& repulsion, std::int64_t& broken) {
+    double fi[3] = {0, 0, 0};
+    double e_i = 0, e_rel = 0, e_rep = 0;
+    const double kr = law.krep[body], rr = law.rrep[body];
+    for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
+        const index_t j = v.nb[k];
+        double d[3];
+        const double l = bond_d(v.x, i, j, d);
+        if (!v.alive[k]) {
+            // Fragments of one grain repel across broken bonds (spec 4.7).
+            if (l < rr) {
+                const double ar = kr * (l - rr) * v.vol[j] / l;
+                for (int c = 0; c < 3; ++c)
+                    fi[c] += ar * d[c];
+                if constexpr (Energy)
+                    e_rep += kr * (rr - l) * (rr - l) * v.vol[j];
+            }
+            continue;
+        }
+        const double ext = l - v.xi[k];
+        if (Breakable && l > v.lc[k]) {
+            // Tension only; i->j and j->i see identical l, xi: symmetric. The energy it held,
+            // less half the work its force would have done over the step that broke it: the
+            // trapezoid the integrator applied to the step lacks that half, so the balance
+            // closes to O(dt^2), not O(dt).
+            v.alive[k] = 0;
+            ++broken;
+            const double dv = d[0] * (v.v[3 * j] - v.v[3 * i]) +
+                              d[1] * (v.v[3 * j + 1] - v.v[3 * i + 1]) +
+                              d[2] * (v.v[3 * j + 2] - v.v[3 * i + 2]);
+            e_rel += v.kb[k] * ext * (ext - law.dt * dv / l);
+            continue;
+        }
+        const double ab = v.kb[k] * ext / l;
+        for (int c = 0; c < 3; ++c)
+            fi[c] += ab * d[c];
+        if constexpr (Energy)
+            e_i += v.kb[k] * ext * ext;
+    }
+    for (int c = 0; c < 3; ++c)
+        v.f[3 * i + c] = fi[c];
+    if constexpr (Energy) {
+        energy += 0.25 * e_i * v.vol[i];
+        repulsion += 0.25 * e_rep * v.vol[i];
+    }
+    released += 0.25 * e_rel * v.vol[i];
+}
+
+/// Row a's node i and body, false if the PMB kernel has no force to compute there (f_i = 0 for
+/// a node that does not move; LPS and RNP rows belong to their kernels).
+PD_INLINE bool pmb_owns(const Arrays& v, const State& s, const BodyLaw& law, std::int64_t a,
+                        std::int64_t& i, std::size_t& body) {
+    i = v.rows[a];
+    body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+    if (law.lps[body] || law.rnp[body])
+        return false;
+    if (!s.moving[static_cast<std::size_t>(i)]) {
+        v.f[3 * i] = v.f[3 * i + 1] = v.f[3 * i + 2] = 0;
+        return false;
+    }
+    return true;
+}
+
+/// One PMB row: the hot loop (`hot`, portable, SSE2 or AVX2) when every bond is intact and none
+/// breaks, else the general path. Bond energy density 1/2 c s^2 xi per pair = 1/2 kb ext^2;
+/// the full list counts each pair twice. A macro, so that the AVX2 hot loop inlines into the
+/// AVX2 row loop (a function compiled without AVX2 cannot take it inline).
+#define PD_PMB_ROW(hot)                                                                            \
+    [&](std::int64_t a, double& energy, double& released, double& repulsion, std::int64_t& broken) \
+        PD_ROW_ATTR {                                                                              \
+            std::int64_t i;                                                                        \
+            std::size_t body;                                                                      \
+            if (!pmb_owns(v, s, law, a, i, body))                                                  \
+                return;                                                                            \
+            double fi[3], e_i = 0;                                                                 \
+            if (!hot(v, i, 1.0 + law.s0[body], v.off[a], v.off[a + 1], fi, e_i)) {                 \
+                pmb_general_row<Breakable, Energy>(v, law, body, a, i, energy, released,           \
+                                                   repulsion, broken);                             \
+                return;                                                                            \
+            }                                                                                      \
+            for (int c = 0; c < 3; ++c)                                                            \
+                v.f[3 * i + c] = fi[c];                                                            \
+            if constexpr (Energy)                                                                  \
+                energy += 0.25 * e_i * v.vol[i];                                                   \
+        }
+
+/// All PMB rows with the hot loop of portable or SSE2 lanes (V).
+#define PD_ROW_ATTR __attribute__((always_inline))
+template <bool Breakable, bool Energy, class V>
+Sums pmb_rows(const Arrays& v, const State& s, const BodyLaw& law) {
+    return over_rows(v.n, PD_PMB_ROW((pmb_hot<Energy, V>)));
+}
+#undef PD_ROW_ATTR
+
+#if defined(PD_KERNELS_AVX2)
+/// All PMB rows, compiled for AVX2 (the row and its hot loop inlined into the row loop).
+#define PD_ROW_ATTR PD_AVX2 __attribute__((always_inline))
+template <bool Breakable, bool Energy>
+PD_AVX2 Sums pmb_rows_avx2(const Arrays& v, const State& s, const BodyLaw& law) {
+    return over_rows_avx2(v.n, PD_PMB_ROW(pmb_hot_avx2<Energy>));
+}
+#undef PD_ROW_ATTR
+#endif
+#undef PD_PMB_ROW
+
 template <bool Breakable, bool Energy>
 BondResult kernel(State& s, BondData& b, const BodyLaw& law) {
-    const auto n = static_cast<std::int64_t>(s.rows.size());
-    const index_t* rows = s.rows.data();
-    const double* x = s.x.data();
-    const double* vol = s.vol.data();
-    double* f = s.f.data();
-    const offset_t* off = b.offsets.data();
-    const index_t* nb = b.neighbor.data();
-    const double* xi = b.xi.data();
-    const double* kb = b.kb.data();
-    const double* lc = b.lc.data();
-    std::uint8_t* alive = b.alive.data();
-    auto row = [&](std::int64_t a, double& energy, double& released, double& repulsion,
-                   std::int64_t& broken) {
-        const std::int64_t i = rows[a];
-        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
-        if (law.lps[body] || law.rnp[body])
-            return; // the LPS or RNP kernel owns this row
-        if (!s.moving[static_cast<std::size_t>(i)]) {
-            f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
-            return;
-        }
-        double fi[3] = {0, 0, 0};
-        double e_i = 0, e_rel = 0, e_rep = 0;
-        if (!pmb_row_intact<Energy>(x, i, nb, xi, kb, 1.0 + law.s0[body], alive, off[a], off[a + 1],
-                                    fi, e_i)) {
-            // General path: broken bonds (repulsion), bonds breaking now.
-            fi[0] = fi[1] = fi[2] = e_i = 0;
-            const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-            const double kr = law.krep[body], rr = law.rrep[body];
-            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
-                const index_t j = nb[k];
-                const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-                const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-                if (!alive[k]) {
-                    // Fragments of one grain repel across broken bonds (spec 4.7).
-                    if (l < rr) {
-                        const double ar = kr * (l - rr) * vol[j] / l;
-                        fi[0] += ar * d0;
-                        fi[1] += ar * d1;
-                        fi[2] += ar * d2;
-                        if constexpr (Energy)
-                            e_rep += kr * (rr - l) * (rr - l) * vol[j];
-                    }
-                    continue;
-                }
-                const double ext = l - xi[k];
-                if (Breakable && l > lc[k]) {
-                    // Tension only; i->j and j->i see identical l, xi: symmetric. The energy it
-                    // held, less half the work its force would have done over the step that
-                    // broke it: the trapezoid the integrator applied to the step lacks that
-                    // half, so the balance closes to O(dt^2), not O(dt).
-                    alive[k] = 0;
-                    ++broken;
-                    const double* v = s.v.data();
-                    const double dv = d0 * (v[3 * j] - v[3 * i]) +
-                                      d1 * (v[3 * j + 1] - v[3 * i + 1]) +
-                                      d2 * (v[3 * j + 2] - v[3 * i + 2]);
-                    e_rel += kb[k] * ext * (ext - law.dt * dv / l);
-                    continue;
-                }
-                const double ab = kb[k] * ext / l;
-                fi[0] += ab * d0;
-                fi[1] += ab * d1;
-                fi[2] += ab * d2;
-                if constexpr (Energy)
-                    e_i += kb[k] * ext * ext;
-            }
-        }
-        f[3 * i] = fi[0];
-        f[3 * i + 1] = fi[1];
-        f[3 * i + 2] = fi[2];
-        // Bond energy density 1/2 c s^2 xi per pair = 1/2 kb ext^2; the full list counts each
-        // pair twice.
-        if constexpr (Energy) {
-            energy += 0.25 * e_i * vol[i];
-            repulsion += 0.25 * e_rep * vol[i];
-        }
-        released += 0.25 * e_rel * vol[i];
-    };
-    const Sums r = over_rows(n, row);
+    const Arrays v(s, b);
+    Sums r;
+    switch (kernels::isa()) {
+#if defined(PD_KERNELS_AVX2)
+    case Isa::avx2:
+        r = pmb_rows_avx2<Breakable, Energy>(v, s, law);
+        break;
+#endif
+#if defined(__SSE2__)
+    case Isa::sse2:
+        r = pmb_rows<Breakable, Energy, __m128d>(v, s, law);
+        break;
+#endif
+    default:
+        r = pmb_rows<Breakable, Energy, kernels::V2>(v, s, law);
+    }
     return {r.energy, r.broken, r.released, r.repulsion};
 }
 

@@ -1,323 +1,455 @@
 // SPDX-License-Identifier: MIT
-// The LPS bond kernel (spec 1.3): the dilatation pass, then the force pass, two bonds per SSE2
-// step like the PMB row of bond_forces.cpp (a portable path does the same operations in order).
+// The LPS bond kernel (spec 1.3): the dilatation pass, then the force pass, each in the two
+// lanes of bond_kernels.hpp (portable, SSE2, or AVX2 four bonds at a time; same bits).
+//
+// Energy of node i (spec 1.3, reference weighted volume m_i fixed for the whole run):
+//   W_i = k/2 theta_i^2 + alpha mu / (2 m_i) sum_intact w (e^d_ij)^2 beta V_j,
+//   theta_i = d / m_i sum_intact w xi e beta V_j,   e^d = e - theta xi / d.
+// The force is its exact derivative: t_ij = w (d k theta_i / m_i xi + alpha mu / m_i
+// (e^d_ij - q_i xi)), q_i = theta_i / d (1 - m_i^intact / m_i). q_i = 0 for a whole family;
+// once bonds break it is the term the usual formula drops, and without it the force is not
+// conservative: a damaged family pumps energy in (issue 10: a hollow ellipse on a tip gained
+// 0.17 J of kinetic energy). With m_i fixed, W_i stays a bounded positive quadratic form of
+// the intact bonds' extensions, so losing bonds never stiffens a node (recomputing m_i from
+// the intact bonds would: 1/m_i grows without bound as the family empties).
 #include "solver/bond_forces.hpp"
 #include "solver/bond_kernels.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <functional>
-#include <limits>
 
 namespace pd::solver {
 
 using kernels::ensure_constants;
-using kernels::over_rows;
-using kernels::Sums;
-#if defined(__SSE2__)
-using kernels::gather2;
-using kernels::lanes;
-#endif
 
 namespace {
 
-template <bool Breakable, bool Energy>
-BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
-    // Energy of node i (spec 1.3, reference weighted volume m_i fixed for the whole run):
-    //   W_i = k/2 theta_i^2 + alpha mu / (2 m_i) sum_intact w (e^d_ij)^2 beta V_j,
-    //   theta_i = d / m_i sum_intact w xi e beta V_j,   e^d = e - theta xi / d.
-    // The force is its exact derivative: t_ij = w (d k theta_i / m_i xi + alpha mu / m_i
-    // (e^d_ij - q_i xi)), q_i = theta_i / d (1 - m_i^intact / m_i). q_i = 0 for a whole family;
-    // once bonds break it is the term the usual formula drops, and without it the force is not
-    // conservative: a damaged family pumps energy in (issue 10: a hollow ellipse on a tip gained
-    // 0.17 J of kinetic energy). With m_i fixed, W_i stays a bounded positive quadratic form of
-    // the intact bonds' extensions, so losing bonds never stiffens a node (recomputing m_i from
-    // the intact bonds would: 1/m_i grows without bound as the family empties).
-    const auto n = static_cast<std::int64_t>(s.rows.size());
-    const index_t* rows = s.rows.data();
-    const double* x = s.x.data();
-    const double* vol = s.vol.data();
-    double* f = s.f.data();
-    const offset_t* off = b.offsets.data();
-    const index_t* nb = b.neighbor.data();
-    const double* xi = b.xi.data();
-    const double* beta = b.beta.data();
-    const double* om = b.omega.data();
-    std::uint8_t* alive = b.alive.data(); // 2 = broken in this call (pass 1), 0 after pass 2
-    const double dd = law.dimension;
-    double* theta = law.theta.data();
-    double* q = law.q.data();
-    const double* mw = law.m.data();
-    const double* wv = b.wv.data();
-    const double* lc = b.lc.data();
-    double* bu = b.len.data();     // omega beta V_j e / l, pass 1 for pass 2
-    double* bv = b.inv_len.data(); // omega beta V_j xi / l
-    double* pshare = law.lps_p.data();
-    const double* ka = law.lps_a.data();
-    const double* kt = law.lps_k.data();
-    // Pass 1: break bonds (tension only, symmetric inputs), then dilatation, q and P.
-    auto pass1 = [&](std::int64_t a, double&, double&, double&, std::int64_t& broken) {
-        const std::int64_t i = rows[a];
-        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
-        if (!law.lps[body] || !s.moving[static_cast<std::size_t>(i)]) {
-            theta[i] = 0;
-            q[i] = 0;
-            pshare[i] = 0;
-            return;
-        }
-        const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-        // Hot loop: every bond intact, none breaking (no branch). Two lanes as in the PMB row:
-        // bond k0 + 2m + L summed in lane L, the odd last one in lane 0.
-        double th2[2] = {0, 0};
-        int bad = 0;
-        const double op = 1.0 + law.s0[body]; // breaks beyond xi (1 + s0), as b.lc
-        auto bond1 = [&](offset_t k, int L) {
-            const index_t j = nb[k];
-            const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-            const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            const double inv = 1.0 / l, wx = wv[k] * xi[k], e = l - xi[k];
-            bu[k] = wv[k] * e * inv; // for pass 2: no sqrt, division, nor e there
-            bv[k] = wx * inv;
-            th2[L] += wx * e;
-            bad |= static_cast<int>(l > xi[k] * op) | static_cast<int>(alive[k] != 1);
-        };
-        offset_t k = off[a];
-        const offset_t k1 = off[a + 1];
-#if defined(__SSE2__)
-        {
-            const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
-            const __m128d OP = _mm_set1_pd(op), ONE = _mm_set1_pd(1.0);
-            __m128d TH = _mm_setzero_pd(), B = _mm_setzero_pd();
-            for (; k + 1 < k1; k += 2) {
-                __m128d d0, d1, d2;
-                gather2(x, nb[k], nb[k + 1], X0, X1, X2, d0, d1, d2);
-                const __m128d l = _mm_sqrt_pd(_mm_add_pd(
-                    _mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2)));
-                const __m128d inv = _mm_div_pd(ONE, l);
-                const __m128d x0 = _mm_loadu_pd(xi + k), w = _mm_loadu_pd(wv + k);
-                const __m128d wx = _mm_mul_pd(w, x0), e = _mm_sub_pd(l, x0);
-                _mm_storeu_pd(bu + k, _mm_mul_pd(_mm_mul_pd(w, e), inv));
-                _mm_storeu_pd(bv + k, _mm_mul_pd(wx, inv));
-                TH = _mm_add_pd(TH, _mm_mul_pd(wx, e));
-                B = _mm_or_pd(B, _mm_cmpgt_pd(l, _mm_mul_pd(x0, OP)));
-                std::uint16_t al;
-                std::memcpy(&al, alive + k, 2);
-                bad |= static_cast<int>(al != 0x0101);
-            }
-            lanes(TH, th2[0], th2[1]);
-            bad |= _mm_movemask_pd(B);
-        }
-#else
-        for (; k + 1 < k1; k += 2) {
-            bond1(k, 0);
-            bond1(k + 1, 1);
-        }
+using namespace kernels;
+
+/// The per-node arrays of the LPS law and the pass-1 work arrays per bond.
+struct Lps {
+    explicit Lps(BondData& b, BodyLaw& law)
+        : dd(law.dimension)
+        , theta(law.theta.data())
+        , q(law.q.data())
+        , mw(law.m.data())
+        , bu(b.len.data())
+        , bv(b.inv_len.data())
+        , p(law.lps_p.data())
+        , ka(law.lps_a.data())
+        , kt(law.lps_k.data()) {}
+    double dd;
+    double *theta, *q;
+    const double* mw;
+    double* bu; // omega beta V_j e / l, pass 1 for pass 2
+    double* bv; // omega beta V_j xi / l
+    double* p;  // P_i
+    const double *ka, *kt;
+};
+
+// ---- Pass 1: break bonds (tension only, symmetric inputs), then dilatation, q and P ----
+
+/// Bonds k, k+1 of pass 1: u, v for pass 2 (no sqrt, division nor e there), theta's sum.
+template <class V>
+PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, offset_t k) {
+    V d[3];
+    gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
+    const V l = length(d);
+    const V inv = div(splat(1.0, V{}), l);
+    const V x0 = load2(v.xi + k, V{}), wk = load2(v.wv + k, V{});
+    const V wx = mul(wk, x0), e = sub(l, x0);
+    store2(w.bu + k, mul(mul(wk, e), inv));
+    store2(w.bv + k, mul(wx, inv));
+    L.S = add(L.S, mul(wx, e));
+    L.B = flag(L.B, l, mul(x0, L.OP));
+    L.bad |= not_intact<2>(v.alive + k);
+}
+
+/// The rest of pass 1 from bond k on (pairs, the odd last bond in lane 0); false when a bond is
+/// broken or breaking (the caller takes the general path), else th = the dilatation sum.
+template <class V>
+PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std::int64_t i,
+                          offset_t k, offset_t k1, double& th) {
+    for (; k + 1 < k1; k += 2)
+        pass1_pair(L, v, w, k);
+    double th0 = lane0(L.S);
+    if (k < k1) {
+        double d[3];
+        const double l = bond_d(v.x, i, v.nb[k], d);
+        const double inv = 1.0 / l, wx = v.wv[k] * v.xi[k], e = l - v.xi[k];
+        w.bu[k] = v.wv[k] * e * inv;
+        w.bv[k] = wx * inv;
+        th0 += wx * e;
+        L.bad |= static_cast<int>(l > v.xi[k] * L.op) | static_cast<int>(v.alive[k] != 1);
+    }
+    th = th0 + lane1(L.S);
+    return !(L.bad | any(L.B));
+}
+
+template <class V>
+PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double op, offset_t k0,
+                         offset_t k1, double& th) {
+    CheckedLanes<V> L(v.x + 3 * i, op);
+    return pass1_rest(L, v, w, i, k0, k1, th);
+}
+
+#if defined(PD_KERNELS_AVX2)
+/// pass1_hot with four bonds per step in front (AVX2).
+PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, double op,
+                                      offset_t k, offset_t k1, double& th) {
+    CheckedLanes<__m128d> L(v.x + 3 * i, op);
+    const Wide W(v.x + 3 * i);
+    const __m256d OP = _mm256_set1_pd(op), ONE = _mm256_set1_pd(1.0);
+    __m256d B = _mm256_setzero_pd();
+    for (; k + 3 < k1; k += 4) {
+        __m256d d[3];
+        gather4(v.x, v.nb + k, W.X, d);
+        const __m256d l = length4(d);
+        const __m256d inv = _mm256_div_pd(ONE, l);
+        const __m256d x0 = _mm256_loadu_pd(v.xi + k), wk = _mm256_loadu_pd(v.wv + k);
+        const __m256d wx = _mm256_mul_pd(wk, x0), e = _mm256_sub_pd(l, x0);
+        _mm256_storeu_pd(w.bu + k, _mm256_mul_pd(_mm256_mul_pd(wk, e), inv));
+        _mm256_storeu_pd(w.bv + k, _mm256_mul_pd(wx, inv));
+        L.S = fold(L.S, _mm256_mul_pd(wx, e));
+        B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
+        L.bad |= not_intact<4>(v.alive + k);
+    }
+    L.bad |= _mm256_movemask_pd(B);
+    return pass1_rest(L, v, w, i, k, k1, th);
+}
 #endif
-        if (k < k1)
-            bond1(k, 0);
-        double th = th2[0] + th2[1];
-        bool damaged = false;
-        double mi = 0;
-        if (bad) {
-            th = 0;
-            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
-                if (!alive[k]) {
-                    damaged = true;
-                    continue;
-                }
-                const index_t j = nb[k];
-                const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-                const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-                if (Breakable && l > lc[k]) {
-                    alive[k] = 2;
-                    damaged = true;
-                    ++broken;
-                    continue;
-                }
-                mi += om[k] * xi[k] * xi[k] * beta[k] * vol[j];
-                th += wv[k] * xi[k] * (l - xi[k]);
-            }
+
+/// Pass 1 of a row with broken or breaking bonds: breaks them (alive = 2: broken in this call),
+/// th = the dilatation sum and mi = the weighted volume of the intact bonds.
+template <bool Breakable>
+[[gnu::noinline]] void pass1_general(const Arrays& v, std::int64_t a, std::int64_t i, double& th,
+                                     double& mi, bool& damaged, std::int64_t& broken) {
+    th = 0;
+    for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
+        if (!v.alive[k]) {
+            damaged = true;
+            continue;
         }
-        theta[i] = dd * th / mw[i];
-        q[i] = damaged ? theta[i] / dd * (1.0 - mi / mw[i]) : 0.0;
-        pshare[i] = kt[i] * theta[i] - ka[i] * (theta[i] / dd + q[i]);
-    };
-    const std::int64_t broken = over_rows(n, pass1).broken;
+        const index_t j = v.nb[k];
+        double d[3];
+        const double l = bond_d(v.x, i, j, d);
+        if (Breakable && l > v.lc[k]) {
+            v.alive[k] = 2;
+            damaged = true;
+            ++broken;
+            continue;
+        }
+        mi += v.om[k] * v.xi[k] * v.xi[k] * v.beta[k] * v.vol[j];
+        th += v.wv[k] * v.xi[k] * (l - v.xi[k]);
+    }
+}
+
+/// Row a of pass 1 is an LPS row of a moving node (else its theta, q, P are 0).
+PD_INLINE bool pass1_owns(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
+                          std::int64_t a, std::int64_t& i, std::size_t& body) {
+    i = v.rows[a];
+    body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+    if (law.lps[body] && s.moving[static_cast<std::size_t>(i)])
+        return true;
+    w.theta[i] = w.q[i] = w.p[i] = 0;
+    return false;
+}
+
+/// theta_i, q_i and P_i from the row's sums.
+PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, bool damaged) {
+    w.theta[i] = w.dd * th / w.mw[i];
+    w.q[i] = damaged ? w.theta[i] / w.dd * (1.0 - mi / w.mw[i]) : 0.0;
+    w.p[i] = w.kt[i] * w.theta[i] - w.ka[i] * (w.theta[i] / w.dd + w.q[i]);
+}
+
+/// Pass 1 of row a with the hot loop `hot` (a macro: see PD_PMB_ROW in bond_forces.cpp).
+#define PD_PASS1_ROW(hot)                                                                          \
+    [&](std::int64_t a, double&, double&, double&, std::int64_t& broken) PD_ROW_ATTR {             \
+        std::int64_t i;                                                                            \
+        std::size_t body;                                                                          \
+        if (!pass1_owns(v, w, s, law, a, i, body))                                                 \
+            return;                                                                                \
+        double th = 0, mi = 0;                                                                     \
+        bool damaged = false; /* breaks beyond xi (1 + s0), as b.lc */                             \
+        if (!hot(v, w, i, 1.0 + law.s0[body], v.off[a], v.off[a + 1], th))                         \
+            pass1_general<Breakable>(v, a, i, th, mi, damaged, broken);                            \
+        pass1_finish(w, i, th, mi, damaged);                                                       \
+    }
+
+// ---- Pass 2: forces from both ends of every intact bond; the energy bonds broken in pass 1 held
+
+/// Pass 2's lanes of a row: the force, the deviatoric energy sum, A_i, P_i, theta_i / d.
+template <class V>
+struct Lanes2 : Lanes<V> {
+    Lanes2(const double* x_i, double a_i, double p_i, double t_i)
+        : Lanes<V>(x_i)
+        , AI(splat(a_i, V{}))
+        , PI(splat(p_i, V{}))
+        , TI(splat(t_i, V{}))
+        , W(zero<V>()) {}
+    V AI, PI, TI, W;
+    int bad = 0;
+};
+
+/// Bonds k, k+1 of pass 2: omega t / l = (A_i + A_j) u + (P_i + P_j) v, and with energies e
+/// again, bitwise as in pass 1 (observation steps only).
+template <bool Energy, class V>
+PD_INLINE void pass2_pair(Lanes2<V>& L, const Arrays& v, const Lps& w, offset_t k) {
+    const index_t ja = v.nb[k], jb = v.nb[k + 1];
+    V d[3];
+    gather2(v.x, ja, jb, L.X, d);
+    const V ab = add(mul(add(L.AI, pair(w.ka[ja], w.ka[jb], V{})), load2(w.bu + k, V{})),
+                     mul(add(L.PI, pair(w.p[ja], w.p[jb], V{})), load2(w.bv + k, V{})));
+    L.add_force(ab, d);
+    if constexpr (Energy) {
+        const V x0 = load2(v.xi + k, V{});
+        const V ed = sub(sub(length(d), x0), mul(L.TI, x0));
+        L.W = add(L.W, mul(mul(load2(v.wv + k, V{}), ed), ed));
+    }
+    L.bad |= not_intact<2>(v.alive + k);
+}
+
+/// The rest of pass 2 from bond k on; false when a bond is not intact (general path), else
+/// f_i and wdev (energies only) from the lanes.
+template <bool Energy, class V>
+PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
+                          offset_t k1, double* fi, double& wdev) {
+    for (; k + 1 < k1; k += 2)
+        pass2_pair<Energy>(L, v, w, k);
+    double w0 = lane0(L.W);
+    if (k < k1) {
+        const index_t j = v.nb[k];
+        double d[3];
+        const double l = bond_d(v.x, i, j, d);
+        L.add_force0((lane0(L.AI) + w.ka[j]) * w.bu[k] + (lane0(L.PI) + w.p[j]) * w.bv[k], d);
+        if constexpr (Energy) {
+            const double ed = l - v.xi[k] - lane0(L.TI) * v.xi[k];
+            w0 += v.wv[k] * ed * ed;
+        }
+        L.bad |= static_cast<int>(v.alive[k] != 1);
+    }
+    L.sum(fi);
+    wdev = w0 + lane1(L.W);
+    return !L.bad;
+}
+
+template <bool Energy, class V>
+PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t k0, offset_t k1,
+                         double* fi, double& wdev) {
+    Lanes2<V> L(v.x + 3 * i, w.ka[i], w.p[i], w.theta[i] / w.dd);
+    return pass2_rest<Energy>(L, v, w, i, k0, k1, fi, wdev);
+}
+
+#if defined(PD_KERNELS_AVX2)
+/// pass2_hot with four bonds per step in front (AVX2).
+template <bool Energy>
+PD_AVX2 PD_INLINE bool pass2_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
+                                      offset_t k1, double* fi, double& wdev) {
+    const double a_i = w.ka[i], p_i = w.p[i], t_i = w.theta[i] / w.dd;
+    Lanes2<__m128d> L(v.x + 3 * i, a_i, p_i, t_i);
+    const Wide W(v.x + 3 * i);
+    const __m256d AI = _mm256_set1_pd(a_i), PI = _mm256_set1_pd(p_i), TI = _mm256_set1_pd(t_i);
+    for (; k + 3 < k1; k += 4) {
+        __m256d d[3];
+        gather4(v.x, v.nb + k, W.X, d);
+        const __m256d ab = _mm256_add_pd(
+            _mm256_mul_pd(_mm256_add_pd(AI, gather4(w.ka, v.nb + k)), _mm256_loadu_pd(w.bu + k)),
+            _mm256_mul_pd(_mm256_add_pd(PI, gather4(w.p, v.nb + k)), _mm256_loadu_pd(w.bv + k)));
+        W.add_force(L, ab, d);
+        if constexpr (Energy) {
+            const __m256d x0 = _mm256_loadu_pd(v.xi + k);
+            const __m256d ed = _mm256_sub_pd(_mm256_sub_pd(length4(d), x0), _mm256_mul_pd(TI, x0));
+            L.W = fold(L.W, _mm256_mul_pd(_mm256_mul_pd(_mm256_loadu_pd(v.wv + k), ed), ed));
+        }
+        L.bad |= not_intact<4>(v.alive + k);
+    }
+    return pass2_rest<Energy>(L, v, w, i, k, k1, fi, wdev);
+}
+#endif
+
+/// What pass 2's general path adds up for the energies of a row.
+struct Row2 {
+    double wdev = 0, e_rep = 0, th_new = 0;
+    bool fresh = false;
+};
+
+/// Pass 2 of a row with bonds that are not intact: broken bonds (repulsion), bonds broken in
+/// pass 1 (their share of the dilatation before, in th_new).
+[[gnu::noinline]] inline void pass2_general(const Arrays& v, const Lps& w, const BodyLaw& law,
+                                            std::size_t body, std::int64_t a, std::int64_t i,
+                                            double* fi, Row2& r) {
+    fi[0] = fi[1] = fi[2] = 0;
+    r.wdev = 0;
+    const double kr = law.krep[body], rr = law.rrep[body];
+    for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
+        const index_t j = v.nb[k];
+        double d[3];
+        const double l = bond_d(v.x, i, j, d);
+        if (v.alive[k] != 1) {
+            if (v.alive[k] == 2) { // broken in pass 1: its share of the dilatation before
+                r.fresh = true;
+                r.th_new += v.om[k] * v.xi[k] * (l - v.xi[k]) * v.beta[k] * v.vol[j];
+            }
+            if (l < rr) { // fragments repel across broken bonds (spec 4.7)
+                const double ar = kr * (l - rr) * v.vol[j] / l;
+                for (int c = 0; c < 3; ++c)
+                    fi[c] += ar * d[c];
+                r.e_rep += kr * (rr - l) * (rr - l) * v.vol[j];
+            }
+            continue;
+        }
+        const double e = l - v.xi[k];
+        const double t = (w.ka[i] + w.ka[j]) * e + v.xi[k] * (w.p[i] + w.p[j]);
+        const double ab = v.wv[k] * t / l;
+        for (int c = 0; c < 3; ++c)
+            fi[c] += ab * d[c];
+        const double ed_i = e - w.theta[i] * v.xi[k] / w.dd;
+        r.wdev += v.wv[k] * ed_i * ed_i;
+    }
+}
+
+/// The energy the bonds broken in pass 1 released at node i: W_i with them still intact, at
+/// these positions, less half the work the change of node i's force state would have done over
+/// this step (see the PMB kernel): released = W_before - W_after - dt/2 sum_k (t_before -
+/// t_after) beta V_j de_k/dt, de_k/dt the extension rate of bond k. Marks them broken (0).
+[[gnu::noinline]] inline double lps_released(const Arrays& v, const Lps& w, const BodyLaw& law,
+                                             std::size_t body, std::int64_t a, std::int64_t i,
+                                             double th_new, double w_after) {
+    const double kap = law.kappa[body], a_i = w.ka[i], dd = w.dd, mw = w.mw[i];
+    const double th_b = w.theta[i] + dd * th_new / mw;
+    double wdev_b = 0, mi_b = 0;
+    for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
+        if (!v.alive[k])
+            continue;
+        const index_t j = v.nb[k];
+        double d[3];
+        const double ed = bond_d(v.x, i, j, d) - v.xi[k] - th_b * v.xi[k] / dd;
+        wdev_b += v.om[k] * ed * ed * v.beta[k] * v.vol[j];
+        mi_b += v.om[k] * v.xi[k] * v.xi[k] * v.beta[k] * v.vol[j];
+    }
+    const double q_b = th_b / dd * (1.0 - mi_b / mw);
+    const double p_i = w.kt[i] * w.theta[i];
+    double pw = 0;
+    for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
+        if (!v.alive[k])
+            continue;
+        const index_t j = v.nb[k];
+        double d[3];
+        const double l = bond_d(v.x, i, j, d);
+        const double e = l - v.xi[k];
+        const double rate =
+            (d[0] * (v.v[3 * j] - v.v[3 * i]) + d[1] * (v.v[3 * j + 1] - v.v[3 * i + 1]) +
+             d[2] * (v.v[3 * j + 2] - v.v[3 * i + 2])) /
+            l;
+        const double t_b = v.om[k] * (dd * kap * th_b / mw * v.xi[k] +
+                                      a_i * (e - th_b * v.xi[k] / dd - q_b * v.xi[k]));
+        const double t_a =
+            v.alive[k] == 1 ? v.om[k] * (p_i * v.xi[k] +
+                                         a_i * (e - w.theta[i] * v.xi[k] / dd - w.q[i] * v.xi[k]))
+                            : 0.0;
+        pw += (t_b - t_a) * v.beta[k] * v.vol[j] * rate;
+        if (v.alive[k] == 2)
+            v.alive[k] = 0;
+    }
+    return (0.5 * kap * th_b * th_b + 0.5 * a_i * wdev_b - w_after - 0.5 * law.dt * pw) * v.vol[i];
+}
+
+/// Row a of pass 2 is an LPS row (f_i = 0 if its node does not move).
+PD_INLINE bool pass2_owns(const Arrays& v, const State& s, const BodyLaw& law, std::int64_t a,
+                          std::int64_t& i, std::size_t& body) {
+    i = v.rows[a];
+    body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
+    if (!law.lps[body])
+        return false;
+    if (!s.moving[static_cast<std::size_t>(i)]) {
+        v.f[3 * i] = v.f[3 * i + 1] = v.f[3 * i + 2] = 0;
+        return false;
+    }
+    return true;
+}
+
+/// Stores f_i; the row's energies on observation steps or when bonds broke.
+template <bool Breakable, bool Energy>
+PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, std::size_t body,
+                            std::int64_t a, std::int64_t i, const double* fi, const Row2& r,
+                            double& energy, double& released, double& repulsion) {
+    v.f[3 * i] = fi[0];
+    v.f[3 * i + 1] = fi[1];
+    v.f[3 * i + 2] = fi[2];
+    if (!Energy && !r.fresh)
+        return;
+    const double w_after = 0.5 * law.kappa[body] * w.theta[i] * w.theta[i] + 0.5 * w.ka[i] * r.wdev;
+    energy += w_after * v.vol[i];
+    repulsion += 0.25 * r.e_rep * v.vol[i]; // each pair from both ends
+    if (Breakable && r.fresh)
+        released += lps_released(v, w, law, body, a, i, r.th_new, w_after);
+}
+
+/// Pass 2 of row a with the hot loop `hot`.
+#define PD_PASS2_ROW(hot)                                                                          \
+    [&](std::int64_t a, double& energy, double& released, double& repulsion, std::int64_t&)        \
+        PD_ROW_ATTR {                                                                              \
+            std::int64_t i;                                                                        \
+            std::size_t body;                                                                      \
+            if (!pass2_owns(v, s, law, a, i, body))                                                \
+                return;                                                                            \
+            double fi[3];                                                                          \
+            Row2 r;                                                                                \
+            if (!hot(v, w, i, v.off[a], v.off[a + 1], fi, r.wdev))                                 \
+                pass2_general(v, w, law, body, a, i, fi, r);                                       \
+            pass2_finish<Breakable, Energy>(v, w, law, body, a, i, fi, r, energy, released,        \
+                                            repulsion);                                            \
+        }
+
+/// Both passes over all rows with two lanes V (portable or SSE2); `between` in between.
+#define PD_ROW_ATTR __attribute__((always_inline))
+template <bool Breakable, bool Energy, class V>
+Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
+              const std::function<void()>& between) {
+    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<V>))).broken;
     if (between)
         between(); // ghosts' dilatation and q
-    // Pass 2: forces from both ends of every intact bond; the energy bonds broken in pass 1 held.
-    auto pass2 = [&](std::int64_t a, double& energy, double& released, double& repulsion,
-                     std::int64_t&) {
-        const std::int64_t i = rows[a];
-        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
-        if (!law.lps[body])
-            return;
-        if (!s.moving[static_cast<std::size_t>(i)]) {
-            f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
-            return;
-        }
-        const double kap = law.kappa[body];
-        const double a_i = ka[i];
-        const double p_i = kt[i] * theta[i];
-        const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-        double fi[3] = {0, 0, 0}, wdev = 0, e_rep = 0, th_new = 0;
-        bool fresh = false;
-        // Hot loop (no branch): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)). Two lanes
-        // as in pass 1.
-        const double pi = pshare[i], ti = theta[i] / dd;
-        double f2[2][3] = {{0, 0, 0}, {0, 0, 0}}, w2[2] = {0, 0};
-        int bad = 0;
-        auto bond2 = [&](offset_t k, int L) {
-            const index_t j = nb[k];
-            const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-            // omega t / l = (A_i + A_j) omega e / l + (P_i + P_j) omega xi / l
-            const double ab = (a_i + ka[j]) * bu[k] + (pi + pshare[j]) * bv[k];
-            f2[L][0] += ab * d0;
-            f2[L][1] += ab * d1;
-            f2[L][2] += ab * d2;
-            if constexpr (Energy) { // e again, bitwise as in pass 1 (observation steps only)
-                const double ed = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) - xi[k] - ti * xi[k];
-                w2[L] += wv[k] * ed * ed;
-            }
-            bad |= static_cast<int>(alive[k] != 1);
-        };
-        offset_t k = off[a];
-        const offset_t k1 = off[a + 1];
-#if defined(__SSE2__)
-        {
-            const __m128d X0 = _mm_set1_pd(xi0), X1 = _mm_set1_pd(xi1), X2 = _mm_set1_pd(xi2);
-            const __m128d AI = _mm_set1_pd(a_i), PI = _mm_set1_pd(pi), TI = _mm_set1_pd(ti);
-            __m128d F0 = _mm_setzero_pd(), F1 = _mm_setzero_pd(), F2 = _mm_setzero_pd();
-            __m128d W = _mm_setzero_pd();
-            for (; k + 1 < k1; k += 2) {
-                const index_t ja = nb[k], jb = nb[k + 1];
-                __m128d d0, d1, d2;
-                gather2(x, ja, jb, X0, X1, X2, d0, d1, d2);
-                const __m128d ab = _mm_add_pd(
-                    _mm_mul_pd(_mm_add_pd(AI, _mm_set_pd(ka[jb], ka[ja])), _mm_loadu_pd(bu + k)),
-                    _mm_mul_pd(_mm_add_pd(PI, _mm_set_pd(pshare[jb], pshare[ja])),
-                               _mm_loadu_pd(bv + k)));
-                F0 = _mm_add_pd(F0, _mm_mul_pd(ab, d0));
-                F1 = _mm_add_pd(F1, _mm_mul_pd(ab, d1));
-                F2 = _mm_add_pd(F2, _mm_mul_pd(ab, d2));
-                if constexpr (Energy) {
-                    const __m128d x0 = _mm_loadu_pd(xi + k);
-                    const __m128d l = _mm_sqrt_pd(_mm_add_pd(
-                        _mm_add_pd(_mm_mul_pd(d0, d0), _mm_mul_pd(d1, d1)), _mm_mul_pd(d2, d2)));
-                    const __m128d ed = _mm_sub_pd(_mm_sub_pd(l, x0), _mm_mul_pd(TI, x0));
-                    W = _mm_add_pd(W, _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(wv + k), ed), ed));
-                }
-                std::uint16_t al;
-                std::memcpy(&al, alive + k, 2);
-                bad |= static_cast<int>(al != 0x0101);
-            }
-            lanes(F0, f2[0][0], f2[1][0]);
-            lanes(F1, f2[0][1], f2[1][1]);
-            lanes(F2, f2[0][2], f2[1][2]);
-            lanes(W, w2[0], w2[1]);
-        }
-#else
-        for (; k + 1 < k1; k += 2) {
-            bond2(k, 0);
-            bond2(k + 1, 1);
-        }
+    Sums r = over_rows(v.n, PD_PASS2_ROW((pass2_hot<Energy, V>)));
+    r.broken = broken;
+    return r;
+}
+#undef PD_ROW_ATTR
+
+#if defined(PD_KERNELS_AVX2)
+#define PD_ROW_ATTR PD_AVX2 __attribute__((always_inline))
+template <bool Breakable, bool Energy>
+PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
+                           const std::function<void()>& between) {
+    const std::int64_t broken = over_rows_avx2(v.n, PD_PASS1_ROW(pass1_hot_avx2)).broken;
+    if (between)
+        between();
+    Sums r = over_rows_avx2(v.n, PD_PASS2_ROW(pass2_hot_avx2<Energy>));
+    r.broken = broken;
+    return r;
+}
+#undef PD_ROW_ATTR
 #endif
-        if (k < k1)
-            bond2(k, 0);
-        fi[0] = f2[0][0] + f2[1][0];
-        fi[1] = f2[0][1] + f2[1][1];
-        fi[2] = f2[0][2] + f2[1][2];
-        wdev = w2[0] + w2[1];
-        if (bad) { // general path: broken bonds (repulsion), bonds broken in pass 1
-            fi[0] = fi[1] = fi[2] = wdev = 0;
-            const double kr = law.krep[body], rr = law.rrep[body];
-            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
-                const index_t j = nb[k];
-                const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
-                const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-                if (alive[k] != 1) {
-                    if (alive[k] == 2) { // broken in pass 1: its share of the dilatation before
-                        fresh = true;
-                        th_new += om[k] * xi[k] * (l - xi[k]) * beta[k] * vol[j];
-                    }
-                    if (l < rr) { // fragments repel across broken bonds (spec 4.7)
-                        const double ar = kr * (l - rr) * vol[j] / l;
-                        fi[0] += ar * d0;
-                        fi[1] += ar * d1;
-                        fi[2] += ar * d2;
-                        e_rep += kr * (rr - l) * (rr - l) * vol[j];
-                    }
-                    continue;
-                }
-                const double e = l - xi[k];
-                const double t = (a_i + ka[j]) * e + xi[k] * (pshare[i] + pshare[j]);
-                const double ab = wv[k] * t / l;
-                fi[0] += ab * d0;
-                fi[1] += ab * d1;
-                fi[2] += ab * d2;
-                const double ed_i = e - theta[i] * xi[k] / dd;
-                wdev += wv[k] * ed_i * ed_i;
-            }
-        }
-        f[3 * i] = fi[0];
-        f[3 * i + 1] = fi[1];
-        f[3 * i + 2] = fi[2];
-        if (!Energy && !fresh)
-            return;
-        const double w_after = 0.5 * kap * theta[i] * theta[i] + 0.5 * a_i * wdev;
-        energy += w_after * vol[i];
-        repulsion += 0.25 * e_rep * vol[i]; // each pair from both ends
-        if (Breakable && fresh) {
-            // W_i with the bonds broken in this call still intact, at these positions, less half
-            // the work the change of node i's force state would have done over this step (see
-            // the PMB kernel): released = W_before - W_after - dt/2 sum_k (t_before - t_after)
-            // beta V_j de_k/dt, de_k/dt the extension rate of bond k.
-            const double th_b = theta[i] + dd * th_new / mw[i];
-            const double* v = s.v.data();
-            double wdev_b = 0, mi_b = 0;
-            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
-                if (!alive[k])
-                    continue;
-                const index_t j = nb[k];
-                const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
-                             d2 = x[3 * j + 2] - x[3 * i + 2];
-                const double ed =
-                    std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) - xi[k] - th_b * xi[k] / dd;
-                wdev_b += om[k] * ed * ed * beta[k] * vol[j];
-                mi_b += om[k] * xi[k] * xi[k] * beta[k] * vol[j];
-            }
-            const double q_b = th_b / dd * (1.0 - mi_b / mw[i]);
-            double pw = 0;
-            for (offset_t k = off[a]; k < off[a + 1]; ++k) {
-                if (!alive[k])
-                    continue;
-                const index_t j = nb[k];
-                const double d0 = x[3 * j] - x[3 * i], d1 = x[3 * j + 1] - x[3 * i + 1],
-                             d2 = x[3 * j + 2] - x[3 * i + 2];
-                const double l = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-                const double e = l - xi[k];
-                const double rate =
-                    (d0 * (v[3 * j] - v[3 * i]) + d1 * (v[3 * j + 1] - v[3 * i + 1]) +
-                     d2 * (v[3 * j + 2] - v[3 * i + 2])) /
-                    l;
-                const double t_b = om[k] * (dd * kap * th_b / mw[i] * xi[k] +
-                                            a_i * (e - th_b * xi[k] / dd - q_b * xi[k]));
-                const double t_a =
-                    alive[k] == 1
-                        ? om[k] * (p_i * xi[k] + a_i * (e - theta[i] * xi[k] / dd - q[i] * xi[k]))
-                        : 0.0;
-                pw += (t_b - t_a) * beta[k] * vol[j] * rate;
-                if (alive[k] == 2)
-                    alive[k] = 0;
-            }
-            released +=
-                (0.5 * kap * th_b * th_b + 0.5 * a_i * wdev_b - w_after - 0.5 * law.dt * pw) *
-                vol[i];
-        }
-    };
-    const Sums r = over_rows(n, pass2);
-    return {Energy ? r.energy : 0.0, broken, r.released, Energy ? r.repulsion : 0.0};
+
+template <bool Breakable, bool Energy>
+BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
+    const Arrays v(s, b);
+    const Lps w(b, law);
+    Sums r;
+    switch (kernels::isa()) {
+#if defined(PD_KERNELS_AVX2)
+    case Isa::avx2:
+        r = lps_rows_avx2<Breakable, Energy>(v, w, s, law, between);
+        break;
+#endif
+#if defined(__SSE2__)
+    case Isa::sse2:
+        r = lps_rows<Breakable, Energy, __m128d>(v, w, s, law, between);
+        break;
+#endif
+    default:
+        r = lps_rows<Breakable, Energy, V2>(v, w, s, law, between);
+    }
+    return {Energy ? r.energy : 0.0, r.broken, r.released, Energy ? r.repulsion : 0.0};
 }
 
 } // namespace
