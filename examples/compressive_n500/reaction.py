@@ -19,6 +19,8 @@ centred moving average over --window seconds (PeriDEM's figure: 75, 300, 900 us)
   at_mm {"p": [lo_kPa, hi_kPa]}: stress at these penetrations;
   plateau_mm [a, b] with plateau_kPa [lo, hi]: mean stress over [a, b] mm, and
   plateau_spread: (max - min) / mean over that range at most this;
+  plateau_max_slope: |least-squares slope| over that range at most this many kPa/mm (a curve
+  that keeps rising through force-chain noise fails it where the spread alone may not);
   rise_to_mm: the smoothed stress grows from onset to there: its mean over the last quarter of
   that range is at least rise_min_ratio (default 2) x its mean over the first quarter, and its
   least-squares slope at least rise_min_slope kPa/mm (default 0);
@@ -130,6 +132,9 @@ def check(pen_mm, s_kpa, bounds, broken):
             if "plateau_spread" in bounds:
                 spread = float((s_kpa[sel].max() - s_kpa[sel].min()) / mean)
                 report("plateau (max-min)/mean", spread, 0.0, bounds["plateau_spread"])
+            if "plateau_max_slope" in bounds:
+                slope = float(np.polyfit(pen_mm[sel], s_kpa[sel], 1)[0])
+                report("plateau: |slope| (kPa/mm)", abs(slope), 0.0, bounds["plateau_max_slope"])
     if "rise_to_mm" in bounds and np.isfinite(onset):
         # the rise as a trend, robust to the force-chain noise: the mean stress over the last
         # quarter of [onset, end] over that of its first quarter, and the least-squares slope

@@ -50,3 +50,20 @@ def test_onset_after_the_rise_window_fails_without_crashing():
     p, s = paper_like(3.0)
     bounds = {"onset_mm": [0.2, 1.2], "rise_to_mm": 1.85}
     assert not r.check(p, s, bounds, broken=1)
+
+
+def test_plateau_slope_bound():
+    # plateau_max_slope: a level curve with force-chain noise passes, the same noise on a curve
+    # that still climbs at 120 kPa/mm (the 14.2 mm quick box with the guard off) fails
+    r = load()
+    p = np.linspace(0, 4, 2001)
+    noise = 40 * np.sin(9 * p)
+    level = np.where(p < 1.35, 210 * p, 283) + noise
+    rising = np.where(p < 1.35, 210 * p, 283 + 120 * (p - 1.35)) + noise
+    bounds = {"plateau_mm": [1.35, 2.7], "plateau_kPa": [150, 450], "plateau_max_slope": 50}
+    assert r.check(p, level, bounds, broken=1)
+    assert not r.check(p, rising, bounds, broken=1)
+    # without the slope bound the rising curve passes (mean and spread alone do not see it)
+    loose = dict(bounds, plateau_spread=1.0)
+    del loose["plateau_max_slope"]
+    assert r.check(p, rising, loose, broken=1)
