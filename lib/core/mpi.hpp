@@ -6,7 +6,11 @@
 
 namespace pd::mpi {
 
-/// MPI_Init_thread on construction (unless already initialised), MPI_Finalize on destruction.
+/// True when an MPI launcher (mpirun, srun, hydra) started this process, or PD_MPI=1.
+bool launched_by_mpi();
+
+/// MPI_Init_thread on construction (unless already initialised, or not launched_by_mpi(): a
+/// process started alone is rank 0 of 1 and never initialises MPI), MPI_Finalize on destruction.
 class Session {
   public:
     Session(int* argc, char*** argv);

@@ -1,15 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Random packing (random sequential addition + Gauss-Seidel overlap relaxation) on a uniform
-// cell grid, lattices, and the particle CSV format. All randomness comes from one
-// std::mt19937_64 mapped to doubles by hand (std distributions differ between libraries).
+// cell grid, and lattices (the particle CSV format: particle_csv.cpp). All randomness comes from
+// one std::mt19937_64 mapped to doubles by hand (std distributions differ between libraries).
 #include "geometry/packing.hpp"
 
 #include "core/errors.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -69,15 +67,20 @@ class Grid {
         head_[k] = i;
     }
     /// Calls f(j) for every grain in the 3^dim cells around p (all j with |c_j - p| < cell).
+    /// The grid's sizes and lists are read into locals first: f may write through references
+    /// the compiler cannot tell apart from them, which would reload them on every iteration.
     template <class F>
     void for_near(const Vec3& p, F&& f) const {
         const auto c = cell_of(p);
         const long dz = dim_ == 3 ? 1 : 0;
-        for (long z = std::max(0L, c[2] - dz); z <= std::min(n_[2] - 1, c[2] + dz); ++z)
-            for (long y = std::max(0L, c[1] - 1); y <= std::min(n_[1] - 1, c[1] + 1); ++y)
-                for (long x = std::max(0L, c[0] - 1); x <= std::min(n_[0] - 1, c[0] + 1); ++x)
-                    for (std::int32_t j = head_[index(x, y, z)]; j >= 0;
-                         j = next_[static_cast<std::size_t>(j)])
+        const long nx = n_[0], ny = n_[1], nz = n_[2];
+        const std::int32_t* head = head_.data();
+        const std::int32_t* next = next_.data();
+        for (long z = std::max(0L, c[2] - dz); z <= std::min(nz - 1, c[2] + dz); ++z)
+            for (long y = std::max(0L, c[1] - 1); y <= std::min(ny - 1, c[1] + 1); ++y)
+                for (long x = std::max(0L, c[0] - 1); x <= std::min(nx - 1, c[0] + 1); ++x)
+                    for (std::int32_t j = head[static_cast<std::size_t>((z * ny + y) * nx + x)];
+                         j >= 0; j = next[static_cast<std::size_t>(j)])
                         f(j);
     }
 
@@ -184,11 +187,10 @@ double packing_fraction(const Shape& container, const std::vector<Grain>& grains
 }
 
 // ------------------------------------------------------------------------------------------------
-std::vector<Grain> random_pack(const Shape& container, const PackOptions& opt, PackStats* stats) {
-    const int dim = container.dimension();
-    Rng rng(opt.seed);
+namespace {
 
-    // 1. Draw radii, shapes and orientations, in grain order.
+/// Step 1 of random_pack: radii, shapes and orientations, in grain order.
+std::vector<Grain> draw_grains(const PackOptions& opt, Rng& rng) {
     std::vector<Grain> g;
     if (!opt.radii.empty()) {
         g.resize(opt.radii.size());
@@ -228,114 +230,101 @@ std::vector<Grain> random_pack(const Shape& container, const PackOptions& opt, P
     }
     for (auto& x : g)
         x.orientation = opt.random_orientation ? two_pi * rng.uniform() : 0.0;
-    if (n == 0)
-        return g;
+    return g;
+}
 
-    double rmax = 0, total = 0;
-    for (const auto& x : g) {
-        rmax = std::max(rmax, x.radius);
-        total += ball_measure(x.radius, dim);
-    }
-    const double requested = total / container.area_or_volume();
-    {
-        // Fail fast (issue 13): no arrangement of equal discs (spheres) is denser than the
-        // hexagonal (fcc) one, 0.9069 (0.7405); unequal radii can fill part of the gaps left,
-        // in proportion to their spread. Above that bound the relaxation ran for minutes before
-        // giving up.
-        double rmin = rmax;
-        for (const auto& x : g)
-            rmin = std::min(rmin, x.radius);
-        const double densest = dim == 3 ? 0.7405 : 0.9069;
-        const double bound = densest + (1 - densest) * (1 - rmin / rmax);
-        if (!(requested <= bound))
-            throw InputError(fmt::format(
-                "random_pack: {} grains (radius {:g}..{:g} m) need a packing fraction of {:.3f} "
-                "in {} (area or volume {:.4g}), above the {:.3f} that grains of these radii can "
-                "reach: fewer or smaller grains, or a larger container",
-                n, rmin, rmax, requested, container.name(), container.area_or_volume(), bound));
-    }
+double min_radius(const std::vector<Grain>& g, double rmax) {
+    double rmin = rmax;
+    for (const auto& x : g)
+        rmin = std::min(rmin, x.radius);
+    return rmin;
+}
+
+/// Fails fast (issue 13) when the grains cannot fit: no arrangement of equal discs (spheres) is
+/// denser than the hexagonal (fcc) one, 0.9069 (0.7405); unequal radii can fill part of the gaps
+/// left, in proportion to their spread (above that bound the relaxation ran for minutes before
+/// giving up); and the largest grain must fit the container's bounding box.
+void check_room(const Shape& container, const PackOptions& opt, const std::vector<Grain>& g,
+                double rmax, double requested) {
+    const int dim = container.dimension();
+    const double rmin = min_radius(g, rmax);
+    const double densest = dim == 3 ? 0.7405 : 0.9069;
+    const double bound = densest + (1 - densest) * (1 - rmin / rmax);
+    if (!(requested <= bound))
+        throw InputError(fmt::format(
+            "random_pack: {} grains (radius {:g}..{:g} m) need a packing fraction of {:.3f} "
+            "in {} (area or volume {:.4g}), above the {:.3f} that grains of these radii can "
+            "reach: fewer or smaller grains, or a larger container",
+            g.size(), rmin, rmax, requested, container.name(), container.area_or_volume(), bound));
     const auto box = container.bounding_box();
     for (int i = 0; i < dim; ++i)
         if (box[i + 3] - box[i] < 2 * (rmax + opt.gap))
             throw InputError(fmt::format("random_pack: a grain of radius {} m (+ gap {} m) does "
                                          "not fit in container {}",
                                          rmax, opt.gap, container.name()));
+}
 
-    // 2. Random sequential addition, largest grains first.
-    std::vector<std::size_t> order(n);
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return g[a].radius > g[b].radius; });
-    Grid grid(box, 2 * rmax + opt.gap, dim, n);
-    auto free_of_overlap = [&](const Vec3& p, double r, std::size_t self) {
-        bool ok = true;
-        grid.for_near(p, [&](std::int32_t j) {
-            const auto& o = g[static_cast<std::size_t>(j)];
-            const double d = r + o.radius + opt.gap;
-            if (ok && static_cast<std::size_t>(j) != self && dist2(p, o.center) < d * d)
-                ok = false;
-        });
-        return ok;
-    };
-    auto fits_container = [&](const Vec3& p, double r) {
-        return container.clearance(p[0], p[1], p[2]) >= r + opt.gap;
-    };
-    auto sample = [&](double r) {
-        Vec3 p{0, 0, 0};
-        for (int i = 0; i < dim; ++i)
-            p[i] = rng.uniform(box[i] + r + opt.gap, box[i + 3] - r - opt.gap);
-        return p;
-    };
-    std::vector<std::size_t> deferred;
-    std::size_t failures_in_a_row = 0;
-    for (std::size_t i : order) {
-        bool placed = false;
-        // Once many grains in a row found no room the pack is jammed: stop trying.
-        const std::size_t tries = failures_in_a_row >= 20 ? 0 : opt.attempts_per_grain;
-        for (std::size_t t = 0; t < tries && !placed; ++t) {
-            const Vec3 p = sample(g[i].radius);
-            if (free_of_overlap(p, g[i].radius, n) && fits_container(p, g[i].radius)) {
-                g[i].center = p;
-                grid.insert(static_cast<std::int32_t>(i), p);
-                placed = true;
+/// Steps 2-4 of random_pack on drawn grains: placement, relaxation, verification. Every random
+/// draw comes from one Rng, in a fixed order, so a seed gives one result.
+class Packer {
+  public:
+    Packer(const Shape& container, const PackOptions& opt, std::vector<Grain>& g, Rng& rng,
+           double rmax, double requested)
+        : container_(container)
+        , opt_(opt)
+        , g_(g)
+        , rng_(rng)
+        , dim_(container.dimension())
+        , box_(container.bounding_box())
+        , rmax_(rmax)
+        , requested_(requested)
+        , grid_(box_, 2 * rmax + opt.gap, dim_, g.size()) {}
+
+    /// Random sequential addition, largest grains first; returns the grains that found no room.
+    std::vector<std::size_t> place_by_rsa() {
+        const std::size_t n = g_.size();
+        std::vector<std::size_t> order(n);
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return g_[a].radius > g_[b].radius; });
+        std::vector<std::size_t> deferred;
+        std::size_t failures_in_a_row = 0;
+        for (std::size_t i : order) {
+            bool placed = false;
+            // Once many grains in a row found no room the pack is jammed: stop trying.
+            const std::size_t tries = failures_in_a_row >= 20 ? 0 : opt_.attempts_per_grain;
+            for (std::size_t t = 0; t < tries && !placed; ++t) {
+                const Vec3 p = sample(g_[i].radius);
+                if (free_of_overlap(p, g_[i].radius, n) && fits_container(p, g_[i].radius)) {
+                    g_[i].center = p;
+                    grid_.insert(static_cast<std::int32_t>(i), p);
+                    placed = true;
+                }
+            }
+            if (placed) {
+                failures_in_a_row = 0;
+            } else {
+                ++failures_in_a_row;
+                deferred.push_back(i);
             }
         }
-        if (placed) {
-            failures_in_a_row = 0;
-        } else {
-            ++failures_in_a_row;
-            deferred.push_back(i);
-        }
+        return deferred;
     }
-    PackStats st;
-    st.placed_by_rsa = n - deferred.size();
-    st.relaxed = deferred.size();
-    auto fail = [&](const std::string& why) {
-        double rmin = rmax;
-        for (const auto& x : g)
-            rmin = std::min(rmin, x.radius);
-        return InputError(fmt::format("random_pack: cannot place {} grains (radius {:g}..{:g} m, "
-                                      "gap {:g} m) in {}: requested packing fraction {:.3f}; {}",
-                                      n, rmin, rmax, opt.gap, container.name(), requested, why));
-    };
-    if (!deferred.empty() && !opt.relax)
-        throw fail(fmt::format("{} did not fit by random sequential addition and relax = false",
-                               deferred.size()));
 
-    // 3. Relaxation: insert the rest where they overlap least, then push apart until valid.
-    if (!deferred.empty()) {
+    /// Inserts each deferred grain where it overlaps least (of 16 positions with clearance).
+    void insert_least_overlap(const std::vector<std::size_t>& deferred) {
         for (std::size_t i : deferred) {
             Vec3 best{0, 0, 0};
             double best_pen = std::numeric_limits<double>::infinity();
             for (int t = 0, found = 0; found < 16 && t < 100000; ++t) {
-                const Vec3 p = sample(g[i].radius);
-                if (!fits_container(p, g[i].radius))
+                const Vec3 p = sample(g_[i].radius);
+                if (!fits_container(p, g_[i].radius))
                     continue;
                 ++found;
                 double pen = 0;
-                grid.for_near(p, [&](std::int32_t j) {
-                    const auto& o = g[static_cast<std::size_t>(j)];
-                    pen = std::max(pen, g[i].radius + o.radius + opt.gap -
+                grid_.for_near(p, [&](std::int32_t j) {
+                    const auto& o = g_[static_cast<std::size_t>(j)];
+                    pen = std::max(pen, g_[i].radius + o.radius + opt_.gap -
                                             std::sqrt(dist2(p, o.center)));
                 });
                 if (pen < best_pen) {
@@ -345,96 +334,184 @@ std::vector<Grain> random_pack(const Shape& container, const PackOptions& opt, P
             }
             if (!std::isfinite(best_pen))
                 throw fail("no position inside the container has enough clearance");
-            g[i].center = best;
-            grid.insert(static_cast<std::int32_t>(i), best);
+            g_[i].center = best;
+            grid_.insert(static_cast<std::int32_t>(i), best);
         }
-        // Push targets carry a relative margin so that rounding cannot leave a pair a hair short.
-        const double margin = 1e-9;
-        const double fd_step = 1e-7 * rmax;
-        bool converged = false;
-        for (st.sweeps = 1; st.sweeps <= opt.max_relax_sweeps; ++st.sweeps) {
-            grid.clear();
-            for (std::size_t i = 0; i < n; ++i)
-                grid.insert(static_cast<std::int32_t>(i), g[i].center);
-            bool moved = false;
-            for (std::size_t i = 0; i < n; ++i) {
-                grid.for_near(g[i].center, [&](std::int32_t jj) {
-                    const auto j = static_cast<std::size_t>(jj);
-                    if (j <= i)
-                        return;
-                    const double target = g[i].radius + g[j].radius + opt.gap;
-                    const double d2 = dist2(g[i].center, g[j].center);
-                    if (d2 >= target * target)
-                        return;
-                    double d = std::sqrt(d2);
-                    Vec3 u{0, 0, 0};
-                    if (d > 0) {
-                        for (int k = 0; k < dim; ++k)
-                            u[k] = (g[j].center[k] - g[i].center[k]) / d;
-                    } else { // coincident centres: a random direction
-                        const double a = two_pi * rng.uniform();
-                        u = {std::cos(a), std::sin(a), 0};
-                    }
-                    const double push = 0.5 * (target * (1 + margin) - d);
-                    for (int k = 0; k < dim; ++k) {
-                        g[i].center[k] -= push * u[k];
-                        g[j].center[k] += push * u[k];
-                    }
-                    moved = true;
-                });
-            }
-            for (auto& x : g) {
-                const double need = x.radius + opt.gap;
-                auto& c = x.center;
-                double cl = container.clearance(c[0], c[1], c[2]);
-                for (int it = 0; it < 4 && cl < need; ++it) {
-                    // Move along the clearance gradient (the inward normal), by finite differences.
-                    Vec3 grad{0, 0, 0};
-                    double norm = 0;
-                    for (int k = 0; k < dim; ++k) {
-                        Vec3 a = c, b = c;
-                        a[k] += fd_step;
-                        b[k] -= fd_step;
-                        grad[k] = (container.clearance(a[0], a[1], a[2]) -
-                                   container.clearance(b[0], b[1], b[2])) /
-                                  (2 * fd_step);
-                        norm += grad[k] * grad[k];
-                    }
-                    norm = std::sqrt(norm);
-                    if (!(norm > 1e-6)) { // on a ridge of the distance: step to a random side
-                        const double a = two_pi * rng.uniform();
-                        grad = {std::cos(a), std::sin(a), 0};
-                        norm = 1;
-                    }
-                    const double step = need * (1 + margin) - cl + margin * rmax;
-                    for (int k = 0; k < dim; ++k)
-                        c[k] += step * grad[k] / norm;
-                    cl = container.clearance(c[0], c[1], c[2]);
-                    moved = true;
-                }
-                if (cl < need)
-                    moved = true;
-            }
-            if (!moved) {
-                converged = true;
-                break;
-            }
-        }
-        if (!converged)
-            throw fail(fmt::format("{} grains were relaxed for {} sweeps without removing every "
-                                   "overlap",
-                                   deferred.size(), opt.max_relax_sweeps));
     }
 
-    // 4. Verify the guarantees independently of how the grains were placed.
-    for (std::size_t i = 0; i < n; ++i)
-        if (!fits_container(g[i].center, g[i].radius))
-            throw InternalError(fmt::format("random_pack: grain {} ends outside the container "
-                                            "(please report)",
-                                            i));
-    if (const auto bad = first_overlap(g, opt.gap, dim); bad.first >= 0)
-        throw InternalError(fmt::format("random_pack: grains {} and {} overlap (please report)",
-                                        bad.first, bad.second));
+    /// Gauss-Seidel sweeps pushing overlapping pairs apart and grains back into the container,
+    /// until a sweep moves nothing; returns the number of sweeps (throws after the maximum).
+    std::size_t relax(std::size_t relaxed) {
+        std::size_t sweeps = 1;
+        for (; sweeps <= opt_.max_relax_sweeps; ++sweeps) {
+            grid_.clear();
+            for (std::size_t i = 0; i < g_.size(); ++i)
+                grid_.insert(static_cast<std::int32_t>(i), g_[i].center);
+            const bool pairs_moved = push_pairs_apart();
+            if (!push_into_container() && !pairs_moved)
+                return sweeps;
+        }
+        throw fail(fmt::format("{} grains were relaxed for {} sweeps without removing every "
+                               "overlap",
+                               relaxed, opt_.max_relax_sweeps));
+    }
+
+    /// Checks the guarantees independently of how the grains were placed.
+    void verify() const {
+        for (std::size_t i = 0; i < g_.size(); ++i)
+            if (!fits_container(g_[i].center, g_[i].radius))
+                throw InternalError(fmt::format("random_pack: grain {} ends outside the "
+                                                "container (please report)",
+                                                i));
+        if (const auto bad = first_overlap(g_, opt_.gap, dim_); bad.first >= 0)
+            throw InternalError(fmt::format("random_pack: grains {} and {} overlap (please "
+                                            "report)",
+                                            bad.first, bad.second));
+    }
+
+    InputError fail(const std::string& why) const {
+        return InputError(fmt::format("random_pack: cannot place {} grains (radius {:g}..{:g} m, "
+                                      "gap {:g} m) in {}: requested packing fraction {:.3f}; {}",
+                                      g_.size(), min_radius(g_, rmax_), rmax_, opt_.gap,
+                                      container_.name(), requested_, why));
+    }
+
+  private:
+    /// Push targets carry a relative margin so that rounding cannot leave a pair a hair short.
+    static constexpr double margin = 1e-9;
+
+    bool free_of_overlap(const Vec3& p, double r, std::size_t self) const {
+        bool ok = true;
+        grid_.for_near(p, [&](std::int32_t j) {
+            const auto& o = g_[static_cast<std::size_t>(j)];
+            const double d = r + o.radius + opt_.gap;
+            if (ok && static_cast<std::size_t>(j) != self && dist2(p, o.center) < d * d)
+                ok = false;
+        });
+        return ok;
+    }
+    bool fits_container(const Vec3& p, double r) const {
+        return container_.clearance(p[0], p[1], p[2]) >= r + opt_.gap;
+    }
+    Vec3 sample(double r) {
+        Vec3 p{0, 0, 0};
+        for (int i = 0; i < dim_; ++i)
+            p[i] = rng_.uniform(box_[i] + r + opt_.gap, box_[i + 3] - r - opt_.gap);
+        return p;
+    }
+
+    /// Moves each overlapping pair apart symmetrically along the line of centres (a random
+    /// direction for coincident centres); true if any moved.
+    bool push_pairs_apart() {
+        bool moved = false;
+        for (std::size_t i = 0; i < g_.size(); ++i) {
+            grid_.for_near(g_[i].center, [&](std::int32_t jj) {
+                const auto j = static_cast<std::size_t>(jj);
+                if (j <= i)
+                    return;
+                const double target = g_[i].radius + g_[j].radius + opt_.gap;
+                const double d2 = dist2(g_[i].center, g_[j].center);
+                if (d2 >= target * target)
+                    return;
+                double d = std::sqrt(d2);
+                Vec3 u{0, 0, 0};
+                if (d > 0) {
+                    for (int k = 0; k < dim_; ++k)
+                        u[k] = (g_[j].center[k] - g_[i].center[k]) / d;
+                } else { // coincident centres: a random direction
+                    const double a = two_pi * rng_.uniform();
+                    u = {std::cos(a), std::sin(a), 0};
+                }
+                const double push = 0.5 * (target * (1 + margin) - d);
+                for (int k = 0; k < dim_; ++k) {
+                    g_[i].center[k] -= push * u[k];
+                    g_[j].center[k] += push * u[k];
+                }
+                moved = true;
+            });
+        }
+        return moved;
+    }
+
+    /// Moves each grain short of clearance along the clearance gradient (the inward normal, by
+    /// finite differences), up to 4 steps; true if any moved or is still short.
+    bool push_into_container() {
+        const double fd_step = 1e-7 * rmax_;
+        bool moved = false;
+        for (auto& x : g_) {
+            const double need = x.radius + opt_.gap;
+            auto& c = x.center;
+            double cl = container_.clearance(c[0], c[1], c[2]);
+            for (int it = 0; it < 4 && cl < need; ++it) {
+                Vec3 grad{0, 0, 0};
+                double norm = 0;
+                for (int k = 0; k < dim_; ++k) {
+                    Vec3 a = c, b = c;
+                    a[k] += fd_step;
+                    b[k] -= fd_step;
+                    grad[k] = (container_.clearance(a[0], a[1], a[2]) -
+                               container_.clearance(b[0], b[1], b[2])) /
+                              (2 * fd_step);
+                    norm += grad[k] * grad[k];
+                }
+                norm = std::sqrt(norm);
+                if (!(norm > 1e-6)) { // on a ridge of the distance: step to a random side
+                    const double a = two_pi * rng_.uniform();
+                    grad = {std::cos(a), std::sin(a), 0};
+                    norm = 1;
+                }
+                const double step = need * (1 + margin) - cl + margin * rmax_;
+                for (int k = 0; k < dim_; ++k)
+                    c[k] += step * grad[k] / norm;
+                cl = container_.clearance(c[0], c[1], c[2]);
+                moved = true;
+            }
+            if (cl < need)
+                moved = true;
+        }
+        return moved;
+    }
+
+    const Shape& container_;
+    const PackOptions& opt_;
+    std::vector<Grain>& g_;
+    Rng& rng_;
+    int dim_;
+    std::array<double, 6> box_;
+    double rmax_, requested_;
+    Grid grid_;
+};
+
+} // namespace
+
+std::vector<Grain> random_pack(const Shape& container, const PackOptions& opt, PackStats* stats) {
+    Rng rng(opt.seed);
+    std::vector<Grain> g = draw_grains(opt, rng);
+    const std::size_t n = g.size();
+    if (n == 0)
+        return g;
+    double rmax = 0, total = 0;
+    for (const auto& x : g) {
+        rmax = std::max(rmax, x.radius);
+        total += ball_measure(x.radius, container.dimension());
+    }
+    const double requested = total / container.area_or_volume();
+    check_room(container, opt, g, rmax, requested);
+
+    Packer packer(container, opt, g, rng, rmax, requested);
+    const auto deferred = packer.place_by_rsa();
+    PackStats st;
+    st.placed_by_rsa = n - deferred.size();
+    st.relaxed = deferred.size();
+    if (!deferred.empty() && !opt.relax)
+        throw packer.fail(fmt::format(
+            "{} did not fit by random sequential addition and relax = false", deferred.size()));
+    // Relaxation: insert the rest where they overlap least, then push apart until valid.
+    if (!deferred.empty()) {
+        packer.insert_least_overlap(deferred);
+        st.sweeps = packer.relax(deferred.size());
+    }
+    packer.verify();
     st.packing_fraction = requested;
     if (stats)
         *stats = st;
@@ -496,83 +573,6 @@ std::vector<Grain> lattice(const Shape& container, const LatticeOptions& opt) {
         if (container.clearance(x.center[0], x.center[1], x.center[2]) >= x.radius + opt.gap)
             kept.push_back(x);
     return kept;
-}
-
-// ------------------------------------------------------------------------------------------------
-namespace {
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front())))
-        s.remove_prefix(1);
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back())))
-        s.remove_suffix(1);
-    return s;
-}
-
-/// Splits a CSV row into numbers; false if a field is not a number.
-bool parse_row(std::string_view line, std::vector<double>& out) {
-    out.clear();
-    for (;;) {
-        const auto comma = line.find(',');
-        const std::string_view field = trim(line.substr(0, comma));
-        double v = 0;
-        const char* end = field.data() + field.size();
-        const auto [ptr, ec] = std::from_chars(field.data(), end, v);
-        if (field.empty() || ec != std::errc() || ptr != end)
-            return false;
-        out.push_back(v);
-        if (comma == std::string_view::npos)
-            return true;
-        line.remove_prefix(comma + 1);
-    }
-}
-} // namespace
-
-std::vector<Grain> read_particle_csv(const std::string& path) {
-    std::ifstream in(path);
-    if (!in)
-        throw InputError(fmt::format("cannot open particle file '{}'", path));
-    std::vector<Grain> g;
-    std::string line;
-    std::vector<double> v;
-    bool first = true;
-    for (std::size_t no = 1; std::getline(in, line); ++no) {
-        const std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#')
-            continue;
-        const bool ok = parse_row(t, v);
-        if (!ok && first) { // header
-            first = false;
-            continue;
-        }
-        first = false;
-        if (!ok || v.size() != 6)
-            throw InputError(fmt::format("{}:{}: expected 6 comma-separated numbers x, y, z, r, "
-                                         "orientation, shape; found '{}'",
-                                         path, no, t));
-        const double shape = v[5];
-        if (!(v[3] > 0) || !std::isfinite(v[3]))
-            throw InputError(fmt::format("{}:{}: radius {} must be > 0", path, no, v[3]));
-        if (!(shape >= 0) || shape != std::floor(shape) || shape > 2e9)
-            throw InputError(
-                fmt::format("{}:{}: shape {} must be an integer index >= 0", path, no, shape));
-        for (int k = 0; k < 5; ++k)
-            if (!std::isfinite(v[static_cast<std::size_t>(k)]))
-                throw InputError(fmt::format("{}:{}: values must be finite", path, no));
-        g.push_back(Grain{{v[0], v[1], v[2]}, v[3], v[4], static_cast<std::int32_t>(shape)});
-    }
-    return g;
-}
-
-void write_particle_csv(const std::string& path, const std::vector<Grain>& grains) {
-    std::ofstream out(path);
-    if (!out)
-        throw InputError(fmt::format("cannot write particle file '{}'", path));
-    out << "x,y,z,r,orientation,shape\n";
-    for (const auto& x : grains)
-        out << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n", x.center[0], x.center[1],
-                           x.center[2], x.radius, x.orientation, x.shape);
-    if (!out)
-        throw InputError(fmt::format("error writing particle file '{}'", path));
 }
 
 } // namespace pd::geometry

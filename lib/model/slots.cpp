@@ -96,12 +96,9 @@ bool slot_cuts(const Slot& s, const double* a, const double* b) {
     return um > 0 && um < f.length && std::abs(vm) < f.half;
 }
 
-SlotCut apply_slots(Model& m, const std::vector<Slot>& slots) {
-    SlotCut cut;
-    cut.nodes_per_slot.assign(slots.size(), 0);
-    cut.bonds_per_slot.assign(slots.size(), 0);
-    if (slots.empty())
-        return cut;
+namespace {
+
+void check_slots(const std::vector<Slot>& slots) {
     for (std::size_t k = 0; k < slots.size(); ++k) {
         const auto& s = slots[k];
         if (!(std::hypot(s.p1[0] - s.p0[0], s.p1[1] - s.p0[1]) > 0))
@@ -110,9 +107,11 @@ SlotCut apply_slots(Model& m, const std::vector<Slot>& slots) {
         if (!(s.width >= 0) || !std::isfinite(s.width))
             throw ConfigError(fmt::format("slots[{}].width", k), "must be a finite value >= 0");
     }
-    PD_CHECK(m.bonds.complete(), "apply_slots needs the whole bond list");
+}
+
+/// New index of each node, -1 for those inside a slot (counted in `cut`).
+std::vector<index_t> renumber_nodes(const Model& m, const std::vector<Slot>& slots, SlotCut& cut) {
     const std::size_t n = m.nodes.num();
-    // Nodes to keep, and their new index.
     std::vector<index_t> new_index(n, -1);
     index_t next = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -127,8 +126,11 @@ SlotCut apply_slots(Model& m, const std::vector<Slot>& slots) {
         else
             new_index[i] = next++;
     }
-    // Body offsets: count the kept nodes of each body.
-    auto& B = m.bodies;
+    return new_index;
+}
+
+/// Body offsets: count the kept nodes of each body.
+std::vector<offset_t> body_offsets(const Bodies& B, const std::vector<index_t>& new_index) {
     std::vector<offset_t> offsets(B.num() + 1, 0);
     for (std::size_t b = 0; b < B.num(); ++b) {
         offset_t kept = 0;
@@ -139,12 +141,17 @@ SlotCut apply_slots(Model& m, const std::vector<Slot>& slots) {
                               fmt::format("particle {} lies entirely inside the slots", b));
         offsets[b + 1] = offsets[b] + kept;
     }
-    // Bonds: drop the rows of removed nodes and entries through a slot, renumber neighbours.
+    return offsets;
+}
+
+/// Bonds: drop the rows of removed nodes and entries through a slot, renumber neighbours.
+Bonds cut_bonds(const Model& m, const std::vector<Slot>& slots,
+                const std::vector<index_t>& new_index, std::size_t kept, SlotCut& cut) {
     Bonds nb;
-    nb.offsets.assign(static_cast<std::size_t>(next) + 1, 0);
+    nb.offsets.assign(kept + 1, 0);
     nb.neighbor.reserve(m.bonds.neighbor.size());
     std::size_t through = 0;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < new_index.size(); ++i) {
         if (new_index[i] < 0)
             continue;
         const double* xi = &m.nodes.x0[3 * i];
@@ -168,21 +175,42 @@ SlotCut apply_slots(Model& m, const std::vector<Slot>& slots) {
             static_cast<offset_t>(nb.neighbor.size());
     }
     cut.bonds_removed = through / 2;
-    // Node arrays.
+    return nb;
+}
+
+/// The node arrays of the kept nodes.
+Nodes kept_nodes(const Nodes& nodes, const std::vector<index_t>& new_index, std::size_t kept) {
     Nodes nn;
-    nn.x0.reserve(3 * static_cast<std::size_t>(next));
-    for (std::size_t i = 0; i < n; ++i) {
+    nn.x0.reserve(3 * kept);
+    for (std::size_t i = 0; i < new_index.size(); ++i) {
         if (new_index[i] < 0)
             continue;
-        nn.x0.insert(nn.x0.end(), m.nodes.x0.begin() + 3 * i, m.nodes.x0.begin() + 3 * i + 3);
-        nn.volume.push_back(m.nodes.volume[i]);
-        nn.body.push_back(m.nodes.body[i]);
-        if (!m.nodes.surface.empty())
-            nn.surface.push_back(m.nodes.surface[i]);
+        nn.x0.insert(nn.x0.end(), nodes.x0.begin() + 3 * i, nodes.x0.begin() + 3 * i + 3);
+        nn.volume.push_back(nodes.volume[i]);
+        nn.body.push_back(nodes.body[i]);
+        if (!nodes.surface.empty())
+            nn.surface.push_back(nodes.surface[i]);
     }
-    m.nodes = std::move(nn);
+    return nn;
+}
+
+} // namespace
+
+SlotCut apply_slots(Model& m, const std::vector<Slot>& slots) {
+    SlotCut cut;
+    cut.nodes_per_slot.assign(slots.size(), 0);
+    cut.bonds_per_slot.assign(slots.size(), 0);
+    if (slots.empty())
+        return cut;
+    check_slots(slots);
+    PD_CHECK(m.bonds.complete(), "apply_slots needs the whole bond list");
+    const auto new_index = renumber_nodes(m, slots, cut);
+    const std::size_t kept = m.nodes.num() - cut.nodes_removed;
+    auto offsets = body_offsets(m.bodies, new_index);
+    Bonds nb = cut_bonds(m, slots, new_index, kept, cut);
+    m.nodes = kept_nodes(m.nodes, new_index, kept);
     m.bonds = std::move(nb);
-    B.node_offsets = std::move(offsets);
+    m.bodies.node_offsets = std::move(offsets);
     return cut;
 }
 

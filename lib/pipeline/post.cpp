@@ -66,14 +66,11 @@ post::Progress make_progress(const Context& ctx, double seconds) {
     };
 }
 
-} // namespace
+namespace fs = std::filesystem;
 
-void post(const PostOptions& opt, Context& ctx) {
-    if (opt.check)
-        return run_check(opt, ctx);
-
-    // The crack options are checked before anything is read or written.
-    const bool crack = !opt.crack_origin.empty() || !opt.crack_direction.empty();
+/// The crack options with --crack-origin/direction/axis parsed in; checked before anything is
+/// read or written.
+post::CrackOptions crack_options(const PostOptions& opt) {
     post::CrackOptions crack_opt = opt.crack_opt;
     const auto point = [](const std::vector<double>& v, const char* key, std::array<double, 3>& p) {
         if (v.empty())
@@ -86,49 +83,152 @@ void post(const PostOptions& opt, Context& ctx) {
     point(opt.crack_origin, "--crack-origin", crack_opt.origin);
     point(opt.crack_direction, "--crack-direction", crack_opt.direction);
     point(opt.crack_axis, "--crack-axis", crack_opt.axis);
+    return crack_opt;
+}
 
-    namespace fs = std::filesystem;
-    const fs::path file(opt.file);
+/// -o, or "post" beside the file; neither the input file nor an existing non-directory.
+fs::path output_dir(const PostOptions& opt) {
     const fs::path out_dir =
-        opt.out_dir.empty() ? file.parent_path() / "post" : fs::path(opt.out_dir);
-    const std::string stem = file.stem().string();
-    {
-        std::error_code ec;
-        if (same_path(out_dir.string(), opt.file))
-            throw InputError(fmt::format("-o {}: is the input file; give a directory for the "
-                                         "outputs",
-                                         out_dir.string()));
-        if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
-            throw InputError(fmt::format("-o {}: exists and is not a directory; give a directory "
-                                         "for the outputs",
-                                         out_dir.string()));
-    }
+        opt.out_dir.empty() ? fs::path(opt.file).parent_path() / "post" : fs::path(opt.out_dir);
+    std::error_code ec;
+    if (same_path(out_dir.string(), opt.file))
+        throw InputError(fmt::format("-o {}: is the input file; give a directory for the "
+                                     "outputs",
+                                     out_dir.string()));
+    if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
+        throw InputError(fmt::format("-o {}: exists and is not a directory; give a directory "
+                                     "for the outputs",
+                                     out_dir.string()));
+    return out_dir;
+}
+
+/// From here on the run is recorded in the file, failed or not (ctx.on_exit runs after post()
+/// has returned or thrown, its read handle closed). A read-only file still gets its outputs;
+/// only the record is missing (warned).
+void record_on_exit(const PostOptions& opt, Context& ctx) {
+    if (::access(opt.file.c_str(), W_OK) != 0)
+        ctx.log.warn("{}: read-only ({}): the outputs are written, but this run cannot be "
+                     "recorded in /provenance",
+                     opt.file, std::strerror(errno));
+    else
+        ctx.on_exit = [&opt, &ctx](int code) {
+            try {
+                h5::File w(opt.file, h5::Mode::read_write);
+                store::append_provenance(w, ctx.run, code);
+            } catch (const std::exception& e) {
+                ctx.log.warn("{}: this run could not be recorded in /provenance: {}", opt.file,
+                             e.what());
+            }
+        };
+}
+
+/// One export run over an open file: its inputs and what was written so far.
+struct Exporter {
+    const PostOptions& opt;
+    Context& ctx;
+    const h5::File& f;
+    const model::Model& m;
+    fs::path out_dir;
+    std::string stem;
+    post::Progress progress;
     std::size_t frames = 0, rows = 0;
-    std::string pvd;
-    std::vector<std::string> made; // "<what> -> <path>" of the other products
+    std::string pvd{};
+    std::vector<std::string> made{}; // "<what> -> <path>" of the other products
+
+    void vtu() {
+        const auto series = post::write_vtu_series(f, m.nodes, out_dir.string(), stem, progress);
+        frames = series.frames;
+        pvd = series.pvd;
+        const auto walls = post::write_wall_series(f, m, out_dir.string(), stem);
+        if (!walls.pvd.empty())
+            made.push_back(fmt::format("{} wall frame(s) -> {}", walls.frames, walls.pvd));
+    }
+
+    void xdmf() {
+        const fs::path file(opt.file);
+        const auto xmf = out_dir / (stem + ".xmf");
+        // The HDF5 file is named relative to the .xmf, so the pair can move together.
+        std::error_code ec;
+        const auto ref = fs::relative(fs::absolute(file), fs::absolute(out_dir), ec);
+        const auto n = post::write_xdmf(
+            f, xmf.string(), ec || ref.empty() ? fs::absolute(file).string() : ref.string(), &m);
+        made.push_back(fmt::format("{} frame(s) -> {}", n, xmf.string()));
+    }
+
+    void grains() {
+        const auto csv = out_dir / "grains.csv";
+        const auto n = post::write_grains_csv(f, m, csv.string(), progress);
+        made.push_back(fmt::format("{} grain row(s) -> {}", n, csv.string()));
+    }
+
+    void walls(bool has_obs) {
+        const bool meshed_walls = !store::read_reaction_bodies(f).empty();
+        if (opt.walls && has_obs && (!m.walls.empty() || meshed_walls)) {
+            const auto csv = out_dir / "walls.csv";
+            const auto n = post::write_walls_csv(f, m, csv.string(), opt.wall_length);
+            made.push_back(fmt::format("{} wall row(s) -> {}", n, csv.string()));
+        } else if (opt.wall_length > 0 && m.walls.empty()) {
+            ctx.log.warn("{}: --wall-length given but the file has no rigid walls ({}) and no "
+                         "fixed or driven body reactions",
+                         opt.file, store::path::walls);
+        }
+    }
+
+    void crack(const post::CrackOptions& crack_opt) {
+        const auto csv = out_dir / "crack.csv";
+        const auto n = post::write_crack_csv(f, crack_opt, csv.string(), progress);
+        made.push_back(fmt::format("{} crack row(s) -> {}", n, csv.string()));
+        const auto fit =
+            post::write_crack_arrivals(f, m, crack_opt, (out_dir / "crack_nodes.csv").string(),
+                                       (out_dir / "crack_summary.csv").string(), progress);
+        const std::string to_axis =
+            std::isnan(fit.angle_to_axis_deg)
+                ? std::string()
+                : fmt::format(" ({:.2f} deg to the axis)", fit.angle_to_axis_deg);
+        made.push_back(fmt::format("crack path: {} nodes, angle {:.2f} deg{}, mean speed "
+                                   "{:.4g} m/s -> {}",
+                                   fit.nodes, fit.angle_deg, to_axis, fit.mean_speed,
+                                   (out_dir / "crack_summary.csv").string()));
+    }
+
+    /// `pd-post: FILE: N frame(s) -> PVD; M observable row(s) -> CSV; <made>...`
+    std::string summary() const {
+        std::string s = fmt::format("pd-post: {}:", opt.file);
+        if (opt.vtu)
+            s += fmt::format(" {} frame(s) -> {}", frames, pvd.empty() ? "(none)" : pvd);
+        if (opt.csv)
+            s += fmt::format("{} {} observable row(s) -> {}", opt.vtu ? ";" : "", rows,
+                             rows ? (out_dir / "observables.csv").string() : "(none)");
+        bool first = !opt.vtu && !opt.csv;
+        for (const auto& p : made) {
+            s += (first ? " " : "; ") + p;
+            first = false;
+        }
+        return s;
+    }
+};
+
+} // namespace
+
+void post(const PostOptions& opt, Context& ctx) {
+    if (opt.check)
+        return run_check(opt, ctx);
+    const bool crack = !opt.crack_origin.empty() || !opt.crack_direction.empty();
+    const post::CrackOptions crack_opt = crack_options(opt);
+    const fs::path out_dir = output_dir(opt);
+    std::string summary;
     {
         h5::File f(opt.file, h5::Mode::read);
         store::check_version(f);
-        // From here on the run is recorded in the file, failed or not. The read handle above is
-        // closed before run_tool calls this (post() has returned or thrown by then).
-        // A read-only file still gets its outputs; only the record is missing (warned).
-        if (::access(opt.file.c_str(), W_OK) != 0)
-            ctx.log.warn("{}: read-only ({}): the outputs are written, but this run cannot be "
-                         "recorded in /provenance",
-                         opt.file, std::strerror(errno));
-        else
-            ctx.on_exit = [&opt, &ctx](int code) {
-                try {
-                    h5::File w(opt.file, h5::Mode::read_write);
-                    store::append_provenance(w, ctx.run, code);
-                } catch (const std::exception& e) {
-                    ctx.log.warn("{}: this run could not be recorded in /provenance: {}", opt.file,
-                                 e.what());
-                }
-            };
+        record_on_exit(opt, ctx);
         const auto model = store::read_model(f);
-        const auto progress = make_progress(ctx, opt.progress_seconds);
-
+        Exporter run{opt,
+                     ctx,
+                     f,
+                     model,
+                     out_dir,
+                     fs::path(opt.file).stem().string(),
+                     make_progress(ctx, opt.progress_seconds)};
         std::error_code ec;
         fs::create_directories(out_dir, ec);
         if (ec)
@@ -139,74 +239,21 @@ void post(const PostOptions& opt, Context& ctx) {
         if (!has_frames && (opt.vtu || opt.xdmf || opt.grains || crack))
             ctx.log.warn("{}: no frames ({} missing; run pd-solve first), no .vtu written",
                          opt.file, store::path::particles);
-        if (opt.vtu && has_frames) {
-            const auto series =
-                post::write_vtu_series(f, model.nodes, out_dir.string(), stem, progress);
-            frames = series.frames;
-            pvd = series.pvd;
-            const auto walls = post::write_wall_series(f, model, out_dir.string(), stem);
-            if (!walls.pvd.empty())
-                made.push_back(fmt::format("{} wall frame(s) -> {}", walls.frames, walls.pvd));
-        }
-        if (opt.xdmf && has_frames) {
-            const auto xmf = out_dir / (stem + ".xmf");
-            // The HDF5 file is named relative to the .xmf, so the pair can move together.
-            const auto ref = fs::relative(fs::absolute(file), fs::absolute(out_dir), ec);
-            const auto n = post::write_xdmf(
-                f, xmf.string(), ec || ref.empty() ? fs::absolute(file).string() : ref.string(),
-                &model);
-            made.push_back(fmt::format("{} frame(s) -> {}", n, xmf.string()));
-        }
-        if (opt.csv) {
-            if (has_obs) {
-                rows = post::write_observables_csv(f, (out_dir / "observables.csv").string());
-            } else {
-                ctx.log.warn("{}: no {} (run pd-solve first), no observables.csv written", opt.file,
-                             store::path::observables);
-            }
-        }
-        if (opt.grains && has_frames) {
-            const auto csv = out_dir / "grains.csv";
-            const auto n = post::write_grains_csv(f, model, csv.string(), progress);
-            made.push_back(fmt::format("{} grain row(s) -> {}", n, csv.string()));
-        }
-        const bool meshed_walls = !store::read_reaction_bodies(f).empty();
-        if (opt.walls && has_obs && (!model.walls.empty() || meshed_walls)) {
-            const auto csv = out_dir / "walls.csv";
-            const auto n = post::write_walls_csv(f, model, csv.string(), opt.wall_length);
-            made.push_back(fmt::format("{} wall row(s) -> {}", n, csv.string()));
-        } else if (opt.wall_length > 0 && model.walls.empty()) {
-            ctx.log.warn("{}: --wall-length given but the file has no rigid walls ({}) and no "
-                         "fixed or driven body reactions",
-                         opt.file, store::path::walls);
-        }
-        if (crack && has_frames) {
-            const auto csv = out_dir / "crack.csv";
-            const auto n = post::write_crack_csv(f, crack_opt, csv.string(), progress);
-            made.push_back(fmt::format("{} crack row(s) -> {}", n, csv.string()));
-            const auto fit = post::write_crack_arrivals(
-                f, model, crack_opt, (out_dir / "crack_nodes.csv").string(),
-                (out_dir / "crack_summary.csv").string(), progress);
-            const std::string to_axis =
-                std::isnan(fit.angle_to_axis_deg)
-                    ? std::string()
-                    : fmt::format(" ({:.2f} deg to the axis)", fit.angle_to_axis_deg);
-            made.push_back(fmt::format("crack path: {} nodes, angle {:.2f} deg{}, mean speed "
-                                       "{:.4g} m/s -> {}",
-                                       fit.nodes, fit.angle_deg, to_axis, fit.mean_speed,
-                                       (out_dir / "crack_summary.csv").string()));
-        }
-    }
-    std::string summary = fmt::format("pd-post: {}:", opt.file);
-    if (opt.vtu)
-        summary += fmt::format(" {} frame(s) -> {}", frames, pvd.empty() ? "(none)" : pvd);
-    if (opt.csv)
-        summary += fmt::format("{} {} observable row(s) -> {}", opt.vtu ? ";" : "", rows,
-                               rows ? (out_dir / "observables.csv").string() : "(none)");
-    bool first = !opt.vtu && !opt.csv;
-    for (const auto& m : made) {
-        summary += (first ? " " : "; ") + m;
-        first = false;
+        if (opt.vtu && has_frames)
+            run.vtu();
+        if (opt.xdmf && has_frames)
+            run.xdmf();
+        if (opt.csv && has_obs)
+            run.rows = post::write_observables_csv(f, (out_dir / "observables.csv").string());
+        else if (opt.csv)
+            ctx.log.warn("{}: no {} (run pd-solve first), no observables.csv written", opt.file,
+                         store::path::observables);
+        if (opt.grains && has_frames)
+            run.grains();
+        run.walls(has_obs);
+        if (crack && has_frames)
+            run.crack(crack_opt);
+        summary = run.summary();
     }
     ctx.log.info("{}", summary);
 }

@@ -292,6 +292,11 @@ void restore(Context& ctx, Input& in, solver::Solver& s) {
         const auto& d = ck.dissipation;
         s.set_dissipation({d[0], d[1], d[2], d[3], d[4], d[5], d[6]});
     }
+    // The open observation interval's reaction sums: rank 0 carries the ranks' total.
+    auto sum = ck.interval_sum;
+    if (ctx.rank != 0)
+        std::fill(sum.begin(), sum.end(), 0.0);
+    s.set_interval(std::move(sum), ck.interval_steps);
     ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s; read in {:.3g} "
                  "s)",
                  ck.step, ck.time, in.ck_read_seconds);

@@ -79,21 +79,10 @@ double angle_to(const double* u, const std::array<double, 3>& axis) {
     return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
-} // namespace
-
-CrackFit fit_crack(std::span<const double> x0, std::span<const double> arrival,
-                   const CrackOptions& opt, std::span<const double> frame_times) {
-    const double dn = std::hypot(opt.direction[0], opt.direction[1]);
-    if (!(dn > 0))
-        throw InputError("--crack-direction: the direction must have an x or y component");
-    const double d[2] = {opt.direction[0] / dn, opt.direction[1] / dn};
-    const std::size_t n = arrival.size();
-    PD_CHECK(x0.size() == 3 * n, "fit_crack: x0 size");
-    CrackFit fit;
-    fit.on_path.assign(n, 0);
-    fit.along.assign(n, CrackFit::nan);
-    // Selection: arrived, ahead of the origin, within the band.
-    for (std::size_t i = 0; i < n; ++i) {
+/// Selection: arrived, ahead of the origin along unit d (xy), within opt.band of that ray.
+void select_ahead(std::span<const double> x0, std::span<const double> arrival,
+                  const CrackOptions& opt, const double* d, CrackFit& fit) {
+    for (std::size_t i = 0; i < arrival.size(); ++i) {
         if (std::isnan(arrival[i]))
             continue;
         const double r[2] = {x0[3 * i] - opt.origin[0], x0[3 * i + 1] - opt.origin[1]};
@@ -104,57 +93,47 @@ CrackFit fit_crack(std::span<const double> x0, std::span<const double> arrival,
         fit.on_path[i] = 1;
         ++fit.nodes;
     }
-    // Keep the nodes linked to the origin: a breadth-first search over the selected nodes,
-    // seeded by those within `link` of the origin (O(m^2) in the m selected nodes).
-    if (std::isfinite(opt.link) && opt.link > 0) {
-        std::vector<std::size_t> sel, queue;
-        for (std::size_t i = 0; i < n; ++i)
-            if (fit.on_path[i])
-                sel.push_back(i);
-        std::vector<std::uint8_t> linked(sel.size(), 0);
-        const double l2 = opt.link * opt.link;
-        auto dist2 = [&](std::size_t i, const double* p) {
-            const double dx = x0[3 * i] - p[0], dy = x0[3 * i + 1] - p[1];
-            return dx * dx + dy * dy;
-        };
+}
+
+/// Keeps the selected nodes linked to the origin: a breadth-first search over them, seeded by
+/// those within opt.link of the origin (O(m^2) in the m selected nodes).
+void keep_linked(std::span<const double> x0, const CrackOptions& opt, CrackFit& fit) {
+    std::vector<std::size_t> sel, queue;
+    for (std::size_t i = 0; i < fit.on_path.size(); ++i)
+        if (fit.on_path[i])
+            sel.push_back(i);
+    std::vector<std::uint8_t> linked(sel.size(), 0);
+    const double l2 = opt.link * opt.link;
+    auto dist2 = [&](std::size_t i, const double* p) {
+        const double dx = x0[3 * i] - p[0], dy = x0[3 * i + 1] - p[1];
+        return dx * dx + dy * dy;
+    };
+    for (std::size_t a = 0; a < sel.size(); ++a)
+        if (dist2(sel[a], opt.origin.data()) <= l2) {
+            linked[a] = 1;
+            queue.push_back(a);
+        }
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+        const double* p = &x0[3 * sel[queue[q]]];
         for (std::size_t a = 0; a < sel.size(); ++a)
-            if (dist2(sel[a], opt.origin.data()) <= l2) {
+            if (!linked[a] && dist2(sel[a], p) <= l2) {
                 linked[a] = 1;
                 queue.push_back(a);
             }
-        for (std::size_t q = 0; q < queue.size(); ++q) {
-            const double* p = &x0[3 * sel[queue[q]]];
-            for (std::size_t a = 0; a < sel.size(); ++a)
-                if (!linked[a] && dist2(sel[a], p) <= l2) {
-                    linked[a] = 1;
-                    queue.push_back(a);
-                }
-        }
-        fit.nodes = 0;
-        for (std::size_t a = 0; a < sel.size(); ++a) {
-            if (linked[a])
-                ++fit.nodes;
-            else
-                fit.on_path[sel[a]] = 0;
-        }
     }
-    if (fit.nodes < 2)
-        return fit;
-    // Direction of the whole path, then the angles (whole path, and nodes within fit_radius).
-    double u[2];
-    if (!line_through_origin(x0, fit.on_path, opt, d, INFINITY, u))
-        return fit;
-    fit.direction[0] = u[0];
-    fit.direction[1] = u[1];
-    fit.path_angle_deg = std::atan2(u[1], u[0]) * 180 / std::numbers::pi;
-    fit.path_angle_to_axis_deg = angle_to(u, opt.axis);
-    double v[2];
-    if (line_through_origin(x0, fit.on_path, opt, d, opt.fit_radius, v)) {
-        fit.angle_deg = std::atan2(v[1], v[0]) * 180 / std::numbers::pi;
-        fit.angle_to_axis_deg = angle_to(v, opt.axis);
+    fit.nodes = 0;
+    for (std::size_t a = 0; a < sel.size(); ++a) {
+        if (linked[a])
+            ++fit.nodes;
+        else
+            fit.on_path[sel[a]] = 0;
     }
-    // Projections, first arrival and farthest node.
-    for (std::size_t i = 0; i < n; ++i) {
+}
+
+/// Projections of the path nodes on unit u, the first arrival and the farthest node.
+void project_path(std::span<const double> x0, std::span<const double> arrival,
+                  const CrackOptions& opt, const double* u, CrackFit& fit) {
+    for (std::size_t i = 0; i < arrival.size(); ++i) {
         if (!fit.on_path[i])
             continue;
         const double s =
@@ -173,19 +152,24 @@ CrackFit fit_crack(std::span<const double> x0, std::span<const double> arrival,
     }
     if (fit.t_end > fit.t_start)
         fit.mean_speed = (fit.length - fit.start_length) / (fit.t_end - fit.t_start);
-    // Tip history L(t_k) = max projection of the nodes arrived by t_k (frames from t_start).
+}
+
+/// Largest least-squares slope of the tip history L(t_k) = max projection of the nodes arrived
+/// by t_k (frames from t_start) over windows of 2 w + 1 frames; NaN if none.
+double peak_speed(std::span<const double> arrival, const CrackFit& fit,
+                  std::span<const double> frame_times, std::size_t w) {
     std::vector<double> tk, lk;
     for (double t : frame_times) {
         if (t < fit.t_start)
             continue;
         double L = -std::numeric_limits<double>::infinity();
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < arrival.size(); ++i)
             if (fit.on_path[i] && arrival[i] <= t)
                 L = std::max(L, fit.along[i]);
         tk.push_back(t);
         lk.push_back(L);
     }
-    const auto w = static_cast<std::size_t>(std::max(1, opt.half_window));
+    double peak = CrackFit::nan;
     for (std::size_t k = 0; k + 2 * w < tk.size(); ++k) {
         double st = 0, sl = 0, stt = 0, stl = 0;
         const double c = static_cast<double>(2 * w + 1);
@@ -199,10 +183,47 @@ CrackFit fit_crack(std::span<const double> x0, std::span<const double> arrival,
         const double den = c * stt - st * st;
         if (den > 0) {
             const double v = (c * stl - st * sl) / den;
-            if (std::isnan(fit.peak_speed) || v > fit.peak_speed)
-                fit.peak_speed = v;
+            if (std::isnan(peak) || v > peak)
+                peak = v;
         }
     }
+    return peak;
+}
+
+} // namespace
+
+CrackFit fit_crack(std::span<const double> x0, std::span<const double> arrival,
+                   const CrackOptions& opt, std::span<const double> frame_times) {
+    const double dn = std::hypot(opt.direction[0], opt.direction[1]);
+    if (!(dn > 0))
+        throw InputError("--crack-direction: the direction must have an x or y component");
+    const double d[2] = {opt.direction[0] / dn, opt.direction[1] / dn};
+    const std::size_t n = arrival.size();
+    PD_CHECK(x0.size() == 3 * n, "fit_crack: x0 size");
+    CrackFit fit;
+    fit.on_path.assign(n, 0);
+    fit.along.assign(n, CrackFit::nan);
+    select_ahead(x0, arrival, opt, d, fit);
+    if (std::isfinite(opt.link) && opt.link > 0)
+        keep_linked(x0, opt, fit);
+    if (fit.nodes < 2)
+        return fit;
+    // Direction of the whole path, then the angles (whole path, and nodes within fit_radius).
+    double u[2];
+    if (!line_through_origin(x0, fit.on_path, opt, d, INFINITY, u))
+        return fit;
+    fit.direction[0] = u[0];
+    fit.direction[1] = u[1];
+    fit.path_angle_deg = std::atan2(u[1], u[0]) * 180 / std::numbers::pi;
+    fit.path_angle_to_axis_deg = angle_to(u, opt.axis);
+    double v[2];
+    if (line_through_origin(x0, fit.on_path, opt, d, opt.fit_radius, v)) {
+        fit.angle_deg = std::atan2(v[1], v[0]) * 180 / std::numbers::pi;
+        fit.angle_to_axis_deg = angle_to(v, opt.axis);
+    }
+    project_path(x0, arrival, opt, u, fit);
+    fit.peak_speed = peak_speed(arrival, fit, frame_times,
+                                static_cast<std::size_t>(std::max(1, opt.half_window)));
     return fit;
 }
 

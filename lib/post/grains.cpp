@@ -21,6 +21,8 @@
 #include <numbers>
 #include <numeric>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace pd::post {
@@ -73,6 +75,185 @@ double kabsch_angle(const Eigen::Matrix3d& h) {
     return std::acos(std::clamp((r.trace() - 1.0) / 2.0, -1.0, 1.0));
 }
 
+/// Which per-node fields the frames carry besides the positions.
+struct Has {
+    bool v = false, phi = false, frag = false, broken = false;
+};
+
+/// Reference state: volume and volume-weighted centre per body (the density is uniform within
+/// a body), bond count per node.
+struct Reference {
+    std::vector<double> vol, c0;
+    std::vector<std::int64_t> degree;
+};
+
+Reference reference(const model::Model& m) {
+    const auto n = m.nodes.volume.size();
+    const auto nb = m.bodies.node_offsets.size() - 1;
+    Reference r{std::vector<double>(nb, 0), std::vector<double>(3 * nb, 0),
+                std::vector<std::int64_t>(n)};
+    for (std::size_t b = 0; b < nb; ++b) {
+        for (auto i = m.bodies.node_offsets[b]; i < m.bodies.node_offsets[b + 1]; ++i) {
+            r.vol[b] += m.nodes.volume[i];
+            for (int d = 0; d < 3; ++d)
+                r.c0[3 * b + d] += m.nodes.volume[i] * m.nodes.x0[3 * i + d];
+        }
+        for (int d = 0; d < 3 && r.vol[b] > 0; ++d)
+            r.c0[3 * b + d] /= r.vol[b];
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        r.degree[i] = m.bonds.offsets[i + 1] - m.bonds.offsets[i];
+    return r;
+}
+
+/// The fields of frame k (empty where the file has none), their lengths checked.
+struct FrameFields {
+    std::vector<double> x, v, phi, frag, brk;
+};
+
+FrameFields read_frame(const h5::File& f, const store::FrameReader& frames, std::size_t k,
+                       const Has& has, std::size_t n) {
+    FrameFields fr;
+    fr.x = frames.read("position", k);
+    fr.v = has.v ? frames.read("velocity", k) : std::vector<double>{};
+    fr.phi = has.phi ? frames.read("damage", k) : std::vector<double>{};
+    if (fr.x.size() != 3 * n || (has.v && fr.v.size() != 3 * n) || (has.phi && fr.phi.size() != n))
+        throw SchemaError(f.name(), store::path::particles,
+                          fmt::format("frame {} has a field of the "
+                                      "wrong length (n = {})",
+                                      k, n));
+    fr.frag = has.frag ? frames.read("fragment", k) : std::vector<double>{};
+    fr.brk = has.broken ? frames.read("broken_bonds", k) : std::vector<double>{};
+    return fr;
+}
+
+/// One row of grains.csv: the values of a body at a frame (empty optionals: empty cells).
+struct GrainRow {
+    std::int64_t step = 0;
+    double time = 0;
+    std::size_t body = 0;
+    double com[3] = {0, 0, 0};
+    std::optional<double> vcom[3];
+    double rotation = 0;
+    std::optional<double> damage, broken_est;
+    std::optional<std::int64_t> broken, fragments;
+};
+
+std::string g17(std::optional<double> v) {
+    return v ? fmt::format("{:.17g}", *v) : std::string();
+}
+std::string integer(std::optional<std::int64_t> v) {
+    return v ? fmt::format("{}", *v) : std::string();
+}
+
+/// The columns of grains.csv, in order: header name and cell text.
+using Column = std::pair<const char*, std::string (*)(const GrainRow&)>;
+constexpr Column columns[] = {
+    {"step", [](const GrainRow& r) { return fmt::format("{}", r.step); }},
+    {"time", [](const GrainRow& r) { return g17(r.time); }},
+    {"body", [](const GrainRow& r) { return fmt::format("{}", r.body); }},
+    {"com_x", [](const GrainRow& r) { return g17(r.com[0]); }},
+    {"com_y", [](const GrainRow& r) { return g17(r.com[1]); }},
+    {"com_z", [](const GrainRow& r) { return g17(r.com[2]); }},
+    {"vcom_x", [](const GrainRow& r) { return g17(r.vcom[0]); }},
+    {"vcom_y", [](const GrainRow& r) { return g17(r.vcom[1]); }},
+    {"vcom_z", [](const GrainRow& r) { return g17(r.vcom[2]); }},
+    {"rotation", [](const GrainRow& r) { return g17(r.rotation); }},
+    {"damage", [](const GrainRow& r) { return g17(r.damage); }},
+    {"broken_bonds", [](const GrainRow& r) { return integer(r.broken); }},
+    {"fragments", [](const GrainRow& r) { return integer(r.fragments); }},
+    {"broken_bonds_est", [](const GrainRow& r) { return g17(r.broken_est); }},
+};
+
+/// Centre of mass, its velocity, volume-weighted damage and the broken-bond estimate of body b.
+void measure(const model::Model& m, const Reference& ref, const FrameFields& fr, const Has& has,
+             std::size_t b, GrainRow& row) {
+    const auto lo = m.bodies.node_offsets[b], hi = m.bodies.node_offsets[b + 1];
+    double c[3] = {0, 0, 0}, vc[3] = {0, 0, 0}, dmg = 0, est = 0;
+    for (auto i = lo; i < hi; ++i) {
+        const double w = m.nodes.volume[i];
+        for (int d = 0; d < 3; ++d) {
+            c[d] += w * fr.x[3 * i + d];
+            if (has.v)
+                vc[d] += w * fr.v[3 * i + d];
+        }
+        if (has.phi) {
+            dmg += w * fr.phi[i];
+            est += fr.phi[i] * static_cast<double>(ref.degree[i]);
+        }
+    }
+    const double wb = ref.vol[b] > 0 ? ref.vol[b] : 1.0;
+    for (int d = 0; d < 3; ++d) {
+        row.com[d] = c[d] / wb;
+        if (has.v)
+            row.vcom[d] = vc[d] / wb;
+    }
+    if (has.phi) {
+        row.damage = dmg / wb;
+        row.broken_est = est / 2;
+    }
+}
+
+/// Rotation (rad) of the rigid fit of body b about its centres of mass; 2D unwrapped in time
+/// from last_angle (updated).
+double rotation(const model::Model& m, const Reference& ref, const FrameFields& fr, std::size_t b,
+                const double* c, double& last_angle) {
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+    for (auto i = m.bodies.node_offsets[b]; i < m.bodies.node_offsets[b + 1]; ++i) {
+        const Eigen::Vector3d p(m.nodes.x0[3 * i] - ref.c0[3 * b],
+                                m.nodes.x0[3 * i + 1] - ref.c0[3 * b + 1],
+                                m.nodes.x0[3 * i + 2] - ref.c0[3 * b + 2]);
+        const Eigen::Vector3d q(fr.x[3 * i] - c[0], fr.x[3 * i + 1] - c[1], fr.x[3 * i + 2] - c[2]);
+        h += m.nodes.volume[i] * p * q.transpose();
+    }
+    if (m.dimension != 2)
+        return kabsch_angle(h);
+    double angle = std::atan2(h(0, 1) - h(1, 0), h(0, 0) + h(1, 1));
+    const double two_pi = 2 * std::numbers::pi;
+    angle += two_pi * std::round((last_angle - angle) / two_pi);
+    last_angle = angle;
+    return angle;
+}
+
+/// Broken bonds and fragments of body b: from the frame fields, else exact at the checkpoint.
+void bond_counts(const model::Model& m, const FrameFields& fr, const Has& has, std::size_t b,
+                 const BondState* exact, GrainRow& row) {
+    const auto lo = m.bodies.node_offsets[b], hi = m.bodies.node_offsets[b + 1];
+    if (has.broken) {
+        double nb2 = 0;
+        for (auto i = lo; i < hi; ++i)
+            nb2 += fr.brk[static_cast<std::size_t>(i)];
+        row.broken = static_cast<std::int64_t>(nb2 / 2);
+    } else if (exact) {
+        row.broken = exact->broken[b];
+    }
+    if (has.frag) {
+        std::vector<double> ids(fr.frag.begin() + lo, fr.frag.begin() + hi);
+        std::sort(ids.begin(), ids.end());
+        row.fragments = std::unique(ids.begin(), ids.end()) - ids.begin();
+    } else if (exact) {
+        row.fragments = exact->fragments[b];
+    }
+}
+
+/// The method, stated in a comment line after the table: numpy's genfromtxt(names=True) would
+/// take a leading comment line for the header.
+std::string method_note(const h5::File& f, const model::Model& m, const Has& has,
+                        const std::optional<store::Checkpoint>& ckpt) {
+    return fmt::format(
+        "# pd-post grains.csv from {}; volume-weighted centre of mass (m) and its velocity "
+        "(m s-1); rotation (rad) of the best rigid fit of current vs reference positions "
+        "({}); damage = sum(V phi)/sum(V); fragments: distinct fragment ids of the frame "
+        "(connected components of intact bonds, written by pd-solve){}; broken_bonds: half the "
+        "sum of the broken_bonds frame field (else exact from /checkpoints bond_alive {} only); "
+        "broken_bonds_est = sum(phi_i "
+        "deg_i)/2, from damage\n",
+        f.name(),
+        m.dimension == 2 ? "2D Procrustes angle, unwrapped in time" : "3D Kabsch angle in [0, pi]",
+        has.frag ? "" : " (no fragment field in this file: from the checkpoint only)",
+        ckpt ? fmt::format("at step {}", ckpt->step) : std::string("(no checkpoint)"));
+}
+
 } // namespace
 
 std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std::string& csv_path,
@@ -86,28 +267,13 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
             f.name(), particles + "/position/value",
             fmt::format("has {} nodes per frame, expected {} (/nodes)", frames.num_nodes(), n));
     const auto fields = frames.fields();
-    const auto has = [&](const char* name) {
+    const auto field = [&](const char* name) {
         return std::find(fields.begin(), fields.end(), name) != fields.end();
     };
-    if (!has("position"))
+    if (!field("position"))
         throw SchemaError(f.name(), particles + "/position", "missing (no positions)");
-    const bool has_v = has("velocity"), has_phi = has("damage"), has_frag = has("fragment"),
-               has_broken = has("broken_bonds");
-
-    // Reference centres (volume-weighted: the density is uniform within a body).
-    std::vector<double> vol(nb, 0), c0(3 * nb, 0);
-    for (std::size_t b = 0; b < nb; ++b) {
-        for (auto i = m.bodies.node_offsets[b]; i < m.bodies.node_offsets[b + 1]; ++i) {
-            vol[b] += m.nodes.volume[i];
-            for (int d = 0; d < 3; ++d)
-                c0[3 * b + d] += m.nodes.volume[i] * m.nodes.x0[3 * i + d];
-        }
-        for (int d = 0; d < 3 && vol[b] > 0; ++d)
-            c0[3 * b + d] /= vol[b];
-    }
-    std::vector<std::int64_t> degree(n);
-    for (std::size_t i = 0; i < n; ++i)
-        degree[i] = m.bonds.offsets[i + 1] - m.bonds.offsets[i];
+    const Has has{field("velocity"), field("damage"), field("fragment"), field("broken_bonds")};
+    const Reference ref = reference(m);
 
     // Exact bond state at the latest checkpoint only.
     const auto ckpt = store::read_latest_checkpoint(f, n, m.bonds.neighbor.size());
@@ -116,98 +282,30 @@ std::size_t write_grains_csv(const h5::File& f, const model::Model& m, const std
         exact = bond_state(m, ckpt->alive);
 
     auto out = open_output(csv_path);
-    // The method is stated in a comment line after the table: numpy's genfromtxt(names=True)
-    // would take a leading comment line for the header.
-    const std::string note = fmt::format(
-        "# pd-post grains.csv from {}; volume-weighted centre of mass (m) and its velocity "
-        "(m s-1); rotation (rad) of the best rigid fit of current vs reference positions "
-        "({}); damage = sum(V phi)/sum(V); fragments: distinct fragment ids of the frame "
-        "(connected components of intact bonds, written by pd-solve){}; broken_bonds: half the "
-        "sum of the broken_bonds frame field (else exact from /checkpoints bond_alive {} only); "
-        "broken_bonds_est = sum(phi_i "
-        "deg_i)/2, from damage\n",
-        f.name(),
-        m.dimension == 2 ? "2D Procrustes angle, unwrapped in time" : "3D Kabsch angle in [0, pi]",
-        has_frag ? "" : " (no fragment field in this file: from the checkpoint only)",
-        ckpt ? fmt::format("at step {}", ckpt->step) : std::string("(no checkpoint)"));
-    fmt::print(out.get(), "step,time,body,com_x,com_y,com_z,vcom_x,vcom_y,vcom_z,rotation,"
-                          "damage,broken_bonds,fragments,broken_bonds_est\n");
+    const std::string note = method_note(f, m, has, ckpt);
+    std::string header;
+    for (std::size_t c = 0; c < std::size(columns); ++c)
+        header += (c ? "," : "") + std::string(columns[c].first);
+    fmt::print(out.get(), "{}\n", header);
 
     std::vector<double> last_angle(nb, 0);
     std::size_t rows = 0;
     std::string line;
     for (std::size_t k = 0; k < frames.num_frames(); ++k) {
-        const auto x = frames.read("position", k);
-        const auto v = has_v ? frames.read("velocity", k) : std::vector<double>{};
-        const auto phi = has_phi ? frames.read("damage", k) : std::vector<double>{};
-        if (x.size() != 3 * n || (has_v && v.size() != 3 * n) || (has_phi && phi.size() != n))
-            throw SchemaError(f.name(), particles,
-                              fmt::format("frame {} has a field of the "
-                                          "wrong length (n = {})",
-                                          k, n));
+        const FrameFields fr = read_frame(f, frames, k, has, n);
         const bool at_ckpt = exact && ckpt->step == frames.step(k);
-        const auto frag = has_frag ? frames.read("fragment", k) : std::vector<double>{};
-        const auto brk = has_broken ? frames.read("broken_bonds", k) : std::vector<double>{};
         for (std::size_t b = 0; b < nb; ++b) {
-            const auto lo = m.bodies.node_offsets[b], hi = m.bodies.node_offsets[b + 1];
-            double c[3] = {0, 0, 0}, vc[3] = {0, 0, 0}, dmg = 0, est = 0;
-            for (auto i = lo; i < hi; ++i) {
-                const double w = m.nodes.volume[i];
-                for (int d = 0; d < 3; ++d) {
-                    c[d] += w * x[3 * i + d];
-                    if (has_v)
-                        vc[d] += w * v[3 * i + d];
-                }
-                if (has_phi) {
-                    dmg += w * phi[i];
-                    est += phi[i] * static_cast<double>(degree[i]);
-                }
-            }
-            const double wb = vol[b] > 0 ? vol[b] : 1.0;
-            for (int d = 0; d < 3; ++d) {
-                c[d] /= wb;
-                vc[d] /= wb;
-            }
-            // Rigid fit about the centres of mass.
-            Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-            for (auto i = lo; i < hi; ++i) {
-                const Eigen::Vector3d p(m.nodes.x0[3 * i] - c0[3 * b],
-                                        m.nodes.x0[3 * i + 1] - c0[3 * b + 1],
-                                        m.nodes.x0[3 * i + 2] - c0[3 * b + 2]);
-                const Eigen::Vector3d q(x[3 * i] - c[0], x[3 * i + 1] - c[1], x[3 * i + 2] - c[2]);
-                h += m.nodes.volume[i] * p * q.transpose();
-            }
-            double angle = 0;
-            if (m.dimension == 2) {
-                angle = std::atan2(h(0, 1) - h(1, 0), h(0, 0) + h(1, 1));
-                const double two_pi = 2 * std::numbers::pi;
-                angle += two_pi * std::round((last_angle[b] - angle) / two_pi);
-                last_angle[b] = angle;
-            } else {
-                angle = kabsch_angle(h);
-            }
-            line = fmt::format("{},{:.17g},{},{:.17g},{:.17g},{:.17g},", frames.step(k),
-                               frames.time(k), b, c[0], c[1], c[2]);
-            line += has_v ? fmt::format("{:.17g},{:.17g},{:.17g},", vc[0], vc[1], vc[2])
-                          : std::string(",,,");
-            line += fmt::format("{:.17g},", angle);
-            line += has_phi ? fmt::format("{:.17g},", dmg / wb) : std::string(",");
-            if (has_broken) {
-                double nb2 = 0;
-                for (auto i = lo; i < hi; ++i)
-                    nb2 += brk[static_cast<std::size_t>(i)];
-                line += fmt::format("{},", static_cast<std::int64_t>(nb2 / 2));
-            } else {
-                line += at_ckpt ? fmt::format("{},", exact->broken[b]) : std::string(",");
-            }
-            if (has_frag) {
-                std::vector<double> ids(frag.begin() + lo, frag.begin() + hi);
-                std::sort(ids.begin(), ids.end());
-                line += fmt::format("{},", std::unique(ids.begin(), ids.end()) - ids.begin());
-            } else {
-                line += at_ckpt ? fmt::format("{},", exact->fragments[b]) : std::string(",");
-            }
-            line += has_phi ? fmt::format("{:.17g}\n", est / 2) : std::string("\n");
+            GrainRow row;
+            row.step = frames.step(k);
+            row.time = frames.time(k);
+            row.body = b;
+            measure(m, ref, fr, has, b, row);
+            row.rotation = rotation(m, ref, fr, b, row.com, last_angle[b]);
+            bond_counts(m, fr, has, b, at_ckpt ? &*exact : nullptr, row);
+            line.clear();
+            for (std::size_t c = 0; c < std::size(columns); ++c)
+                line += (c ? "," : "") + columns[c].second(row);
+            line += '\n';
             if (std::fputs(line.c_str(), out.get()) < 0)
                 throw InputError(fmt::format("{}: write failed (disk full?)", csv_path));
             ++rows;

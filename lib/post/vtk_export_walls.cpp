@@ -96,84 +96,99 @@ WallExtent wall_extent(const model::Nodes& nodes) {
     return e;
 }
 
+namespace {
+
+/// A square patch (3D) or segment (2D) of half-size extent.half on the plane of wall `wall`,
+/// centred on the extent's centre projected onto the plane.
+void plane_outline(WallOutline& o, const Pose& p, int dimension, const WallExtent& extent,
+                   std::int32_t wall) {
+    const auto first = static_cast<std::int64_t>(o.num_points());
+    const V3 n = unit(p.normal);
+    const V3 rel{extent.centre[0] - p.point[0], extent.centre[1] - p.point[1],
+                 extent.centre[2] - p.point[2]};
+    const double h = dot(rel, n);
+    const V3 c{extent.centre[0] - h * n[0], extent.centre[1] - h * n[1],
+               extent.centre[2] - h * n[2]};
+    const double s = extent.half;
+    if (dimension != 3) {
+        const V3 e{-n[1], n[0], 0};
+        add_point(o, p, {c[0] - s * e[0], c[1] - s * e[1], c[2]});
+        add_point(o, p, {c[0] + s * e[0], c[1] + s * e[1], c[2]});
+        o.cells.insert(o.cells.end(), {first, first + 1});
+        o.wall.push_back(wall);
+        return;
+    }
+    // Tangents: n x (the axis least aligned with n), then n x e1.
+    V3 a{0, 0, 0};
+    int m = 0;
+    for (int d = 1; d < 3; ++d)
+        if (std::abs(n[d]) < std::abs(n[m]))
+            m = d;
+    a[m] = 1;
+    const V3 e1 = unit(cross(n, a)), e2 = cross(n, e1);
+    for (const auto& [u, v] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}})
+        add_point(o, p,
+                  {c[0] + s * (u * e1[0] + v * e2[0]), c[1] + s * (u * e1[1] + v * e2[1]),
+                   c[2] + s * (u * e1[2] + v * e2[2])});
+    o.cells.insert(o.cells.end(), {first, first + 1, first + 2, first + 3});
+    o.wall.push_back(wall);
+}
+
+/// A circle of 128 segments about the current point, turned with the wall (2D).
+void circle_outline(WallOutline& o, const Pose& p, double r, std::int32_t wall) {
+    constexpr double two_pi = 2 * std::numbers::pi;
+    constexpr int segments = 128;
+    const auto first = static_cast<std::int64_t>(o.num_points());
+    for (int i = 0; i < segments; ++i) {
+        const double phi = two_pi * i / segments;
+        const V3 local = rotate({r * std::cos(phi), r * std::sin(phi), 0}, p.theta);
+        add_point(o, p, {p.point[0] + local[0], p.point[1] + local[1], p.point[2]});
+    }
+    for (int i = 0; i < segments; ++i) {
+        o.cells.insert(o.cells.end(), {first + i, first + (i + 1) % segments});
+        o.wall.push_back(wall);
+    }
+}
+
+/// A latitude-longitude sphere (16 x 32 quads) about the current point, turned with the wall.
+void sphere_outline(WallOutline& o, const Pose& p, double r, std::int32_t wall) {
+    constexpr double two_pi = 2 * std::numbers::pi;
+    constexpr int lat = 16, lon = 32;
+    const auto first = static_cast<std::int64_t>(o.num_points());
+    for (int i = 0; i <= lat; ++i) {
+        const double th = std::numbers::pi * i / lat;
+        for (int j = 0; j < lon; ++j) {
+            const double phi = two_pi * j / lon;
+            const V3 local = rotate({r * std::sin(th) * std::cos(phi),
+                                     r * std::sin(th) * std::sin(phi), r * std::cos(th)},
+                                    p.theta);
+            add_point(o, p, {p.point[0] + local[0], p.point[1] + local[1], p.point[2] + local[2]});
+        }
+    }
+    for (int i = 0; i < lat; ++i)
+        for (int j = 0; j < lon; ++j) {
+            const auto a = first + i * lon + j, b = first + i * lon + (j + 1) % lon;
+            o.cells.insert(o.cells.end(), {a, b, b + lon, a + lon});
+            o.wall.push_back(wall);
+        }
+}
+
+} // namespace
+
 WallOutline wall_outline(const std::vector<model::Wall>& walls, int dimension,
                          const WallExtent& extent, double t) {
     WallOutline o;
     o.points_per_cell = dimension == 3 ? 4 : 2;
-    constexpr double two_pi = 2 * std::numbers::pi;
     for (std::size_t k = 0; k < walls.size(); ++k) {
         const auto& w = walls[k];
         const Pose p = pose(w, t);
-        const auto first = static_cast<std::int64_t>(o.num_points());
         const auto wall = static_cast<std::int32_t>(k);
-        if (w.shape == model::WallShape::plane) {
-            const V3 n = unit(p.normal);
-            // The patch centre: the extent's centre projected onto the plane.
-            const V3 rel{extent.centre[0] - p.point[0], extent.centre[1] - p.point[1],
-                         extent.centre[2] - p.point[2]};
-            const double h = dot(rel, n);
-            const V3 c{extent.centre[0] - h * n[0], extent.centre[1] - h * n[1],
-                       extent.centre[2] - h * n[2]};
-            const double s = extent.half;
-            if (dimension != 3) {
-                const V3 e{-n[1], n[0], 0};
-                add_point(o, p, {c[0] - s * e[0], c[1] - s * e[1], c[2]});
-                add_point(o, p, {c[0] + s * e[0], c[1] + s * e[1], c[2]});
-                o.cells.insert(o.cells.end(), {first, first + 1});
-                o.wall.push_back(wall);
-            } else {
-                // Tangents: n x (the axis least aligned with n), then n x e1.
-                V3 a{0, 0, 0};
-                int m = 0;
-                for (int d = 1; d < 3; ++d)
-                    if (std::abs(n[d]) < std::abs(n[m]))
-                        m = d;
-                a[m] = 1;
-                const V3 e1 = unit(cross(n, a)), e2 = cross(n, e1);
-                for (const auto& [u, v] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}})
-                    add_point(o, p,
-                              {c[0] + s * (u * e1[0] + v * e2[0]),
-                               c[1] + s * (u * e1[1] + v * e2[1]),
-                               c[2] + s * (u * e1[2] + v * e2[2])});
-                o.cells.insert(o.cells.end(), {first, first + 1, first + 2, first + 3});
-                o.wall.push_back(wall);
-            }
-            continue;
-        }
-        // Circles (2D) and spheres (3D) about the current point, turned with the wall.
-        const double r = w.radius;
-        if (dimension != 3) {
-            constexpr int segments = 128;
-            for (int i = 0; i < segments; ++i) {
-                const double phi = two_pi * i / segments;
-                const V3 local = rotate({r * std::cos(phi), r * std::sin(phi), 0}, p.theta);
-                add_point(o, p, {p.point[0] + local[0], p.point[1] + local[1], p.point[2]});
-            }
-            for (int i = 0; i < segments; ++i) {
-                o.cells.insert(o.cells.end(), {first + i, first + (i + 1) % segments});
-                o.wall.push_back(wall);
-            }
-        } else {
-            constexpr int lat = 16, lon = 32;
-            for (int i = 0; i <= lat; ++i) {
-                const double th = std::numbers::pi * i / lat;
-                for (int j = 0; j < lon; ++j) {
-                    const double phi = two_pi * j / lon;
-                    const V3 local = rotate({r * std::sin(th) * std::cos(phi),
-                                             r * std::sin(th) * std::sin(phi), r * std::cos(th)},
-                                            p.theta);
-                    add_point(
-                        o, p,
-                        {p.point[0] + local[0], p.point[1] + local[1], p.point[2] + local[2]});
-                }
-            }
-            for (int i = 0; i < lat; ++i)
-                for (int j = 0; j < lon; ++j) {
-                    const auto a = first + i * lon + j, b = first + i * lon + (j + 1) % lon;
-                    o.cells.insert(o.cells.end(), {a, b, b + lon, a + lon});
-                    o.wall.push_back(wall);
-                }
-        }
+        if (w.shape == model::WallShape::plane)
+            plane_outline(o, p, dimension, extent, wall);
+        else if (dimension != 3) // circles (2D) and spheres (3D) about the current point
+            circle_outline(o, p, w.radius, wall);
+        else
+            sphere_outline(o, p, w.radius, wall);
     }
     return o;
 }

@@ -14,7 +14,9 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <string>
 
 namespace pd::post {
 
@@ -52,6 +54,90 @@ std::array<double, 3> body_displacement(const model::Model& m, std::size_t b, do
     return mean;
 }
 
+/// The force and moment series of one kind of reaction (rigid walls or reaction bodies).
+struct ReactionSeries {
+    const store::Series* force = nullptr;
+    const store::Series* moment = nullptr;
+};
+
+/// Looks up `names` (force, moment) with 3 * count components each; `missing` and `what` word the
+/// errors ("missing, but <missing>", "expected 3 * <count> <what>"). Empty when count is 0.
+ReactionSeries reaction_series(const h5::File& f,
+                               const std::map<std::string, store::Series>& series,
+                               const std::array<const char*, 2>& names, std::size_t count,
+                               const std::string& missing, const char* what) {
+    const std::string obs = store::path::observables;
+    ReactionSeries r;
+    const store::Series** found[2] = {&r.force, &r.moment};
+    for (std::size_t k = 0; k < names.size() && count > 0; ++k) {
+        const std::string name = names[k];
+        auto it = series.find(name);
+        if (it == series.end())
+            throw SchemaError(f.name(), obs + "/" + name, "missing, but " + missing);
+        const auto& s = it->second;
+        if (s.components != static_cast<int>(3 * count) ||
+            s.value.size() != s.step.size() * 3 * count)
+            throw SchemaError(f.name(), obs + "/" + name + "/value",
+                              fmt::format("has {} values per row, expected 3 * {} {}", s.components,
+                                          count, what));
+        *found[k] = &s;
+    }
+    return r;
+}
+
+/// The columns of one reaction: disp, force, moment (x, y, z each), the normal force (walls
+/// only), the force per stress_length (when > 0).
+void header_columns(std::string& header, const std::string& prefix, bool normal,
+                    double stress_length) {
+    static const char* const axis[] = {"x", "y", "z"};
+    for (const char* what : {"disp", "force", "moment"})
+        for (const char* a : axis)
+            header += fmt::format(",{}_{}_{}", prefix, what, a);
+    if (normal)
+        header += fmt::format(",{}_normal_force", prefix);
+    if (stress_length > 0)
+        for (const char* a : axis)
+            header += fmt::format(",{}_stress_{}", prefix, a);
+}
+
+void add3(std::string& line, const double* v) {
+    for (int d = 0; d < 3; ++d)
+        line += fmt::format(",{:.17g}", v[d]);
+}
+
+void add_stress(std::string& line, const double* fk, double stress_length) {
+    if (stress_length > 0)
+        for (int d = 0; d < 3; ++d)
+            line += fmt::format(",{:.17g}", fk[d] / stress_length);
+}
+
+/// Wall w's columns at time t: its imposed displacement, force, moment, normal force (planes).
+void wall_columns(std::string& line, const model::Wall& w, double t, const double* fk,
+                  const double* mk, double stress_length) {
+    double rate = 0;
+    const double T = model::wall_time(w, t, &rate); // its motion's time function
+    const double disp[3] = {w.velocity[0] * T, w.velocity[1] * T, w.velocity[2] * T};
+    add3(line, disp);
+    add3(line, fk);
+    add3(line, mk);
+    if (w.shape == model::WallShape::plane)
+        line += fmt::format(",{:.17g}",
+                            fk[0] * w.normal[0] + fk[1] * w.normal[1] + fk[2] * w.normal[2]);
+    else
+        line += ",";
+    add_stress(line, fk, stress_length);
+}
+
+/// Body b's columns at time t: its prescribed mean displacement, force, moment.
+void body_columns(std::string& line, const model::Model& m, std::size_t b, double t,
+                  const double* fk, const double* mk, double stress_length) {
+    const auto u = body_displacement(m, b, t);
+    add3(line, u.data());
+    add3(line, fk);
+    add3(line, mk);
+    add_stress(line, fk, stress_length);
+}
+
 } // namespace
 
 std::size_t write_walls_csv(const h5::File& f, const model::Model& m, const std::string& csv_path,
@@ -59,74 +145,33 @@ std::size_t write_walls_csv(const h5::File& f, const model::Model& m, const std:
     const auto series = store::read_observables(f);
     const std::string obs = store::path::observables;
     const auto nw = m.walls.size();
-    const store::Series* force = nullptr;
-    const store::Series* moment = nullptr;
-    for (const char* name : {"wall_force", "wall_moment"}) {
-        if (nw == 0)
-            break;
-        auto it = series.find(name);
-        if (it == series.end())
-            throw SchemaError(f.name(), obs + "/" + name,
-                              fmt::format("missing, but the file has {} wall(s)", nw));
-        const auto& s = it->second;
-        if (s.components != static_cast<int>(3 * nw) || s.value.size() != s.step.size() * 3 * nw)
-            throw SchemaError(
-                f.name(), obs + "/" + name + "/value",
-                fmt::format("has {} values per row, expected 3 * {} walls", s.components, nw));
-        (std::string(name) == "wall_force" ? force : moment) = &s;
-    }
-    if (nw > 0 && moment->step != force->step)
+    const auto walls = reaction_series(f, series, {"wall_force", "wall_moment"}, nw,
+                                       fmt::format("the file has {} wall(s)", nw), "walls");
+    if (nw > 0 && walls.moment->step != walls.force->step)
         throw SchemaError(f.name(), obs + "/wall_moment/step", "differs from wall_force/step");
     // Meshed walls: the fixed or driven bodies' reactions.
     const auto bodies = store::read_reaction_bodies(f);
     const auto nr = bodies.size();
-    const store::Series* bforce = nullptr;
-    const store::Series* bmoment = nullptr;
-    for (const char* name : {"body_force", "body_moment"}) {
-        if (nr == 0)
-            break;
-        auto it = series.find(name);
-        if (it == series.end())
-            throw SchemaError(f.name(), obs + "/" + name,
-                              fmt::format("missing, but body_force/body lists {} bodies", nr));
-        const auto& s = it->second;
-        if (s.components != static_cast<int>(3 * nr) || s.value.size() != s.step.size() * 3 * nr)
-            throw SchemaError(
-                f.name(), obs + "/" + name + "/value",
-                fmt::format("has {} values per row, expected 3 * {} bodies", s.components, nr));
-        (std::string(name) == "body_force" ? bforce : bmoment) = &s;
-    }
+    const auto body = reaction_series(f, series, {"body_force", "body_moment"}, nr,
+                                      fmt::format("body_force/body lists {} bodies", nr), "bodies");
     for (auto b : bodies)
         if (b < 0 || static_cast<std::size_t>(b) >= m.bodies.num())
             throw SchemaError(f.name(), obs + "/body_force/body",
                               fmt::format("lists body {}, the file has {}", b, m.bodies.num()));
-    if (nr > 0 && (bmoment->step != bforce->step || (nw > 0 && bforce->step != force->step)))
+    if (nr > 0 && (body.moment->step != body.force->step ||
+                   (nw > 0 && body.force->step != walls.force->step)))
         throw SchemaError(f.name(), obs + "/body_moment/step",
                           "differs from body_force/step or wall_force/step");
     if (nw == 0 && nr == 0)
         throw SchemaError(f.name(), obs,
                           "has no reactions: no rigid wall and no fixed or driven body");
-    const store::Series* rows = nw > 0 ? force : bforce;
+    const store::Series* rows = nw > 0 ? walls.force : body.force;
 
     std::string header = "step,time";
-    static const char* const axis[] = {"x", "y", "z"};
-    for (std::size_t k = 0; k < nw; ++k) {
-        for (const char* what : {"disp", "force", "moment"})
-            for (const char* a : axis)
-                header += fmt::format(",wall_{}_{}_{}", k, what, a);
-        header += fmt::format(",wall_{}_normal_force", k);
-        if (stress_length > 0)
-            for (const char* a : axis)
-                header += fmt::format(",wall_{}_stress_{}", k, a);
-    }
-    for (auto b : bodies) {
-        for (const char* what : {"disp", "force", "moment"})
-            for (const char* a : axis)
-                header += fmt::format(",body_{}_{}_{}", b, what, a);
-        if (stress_length > 0)
-            for (const char* a : axis)
-                header += fmt::format(",body_{}_stress_{}", b, a);
-    }
+    for (std::size_t k = 0; k < nw; ++k)
+        header_columns(header, fmt::format("wall_{}", k), true, stress_length);
+    for (auto b : bodies)
+        header_columns(header, fmt::format("body_{}", b), false, stress_length);
 
     auto out = open_output(csv_path);
     fmt::print(out.get(), "{}\n", header);
@@ -134,41 +179,13 @@ std::size_t write_walls_csv(const h5::File& f, const model::Model& m, const std:
     for (std::size_t r = 0; r < rows->step.size(); ++r) {
         const double t = rows->time[r];
         line = fmt::format("{},{:.17g}", rows->step[r], t);
-        for (std::size_t k = 0; k < nw; ++k) {
-            const auto& w = m.walls[k];
-            const double* fk = force->value.data() + r * 3 * nw + 3 * k;
-            const double* mk = moment->value.data() + r * 3 * nw + 3 * k;
-            double rate = 0;
-            const double T = model::wall_time(w, t, &rate); // its motion's time function
-            for (int d = 0; d < 3; ++d)
-                line += fmt::format(",{:.17g}", w.velocity[d] * T);
-            for (int d = 0; d < 3; ++d)
-                line += fmt::format(",{:.17g}", fk[d]);
-            for (int d = 0; d < 3; ++d)
-                line += fmt::format(",{:.17g}", mk[d]);
-            if (w.shape == model::WallShape::plane)
-                line += fmt::format(",{:.17g}", fk[0] * w.normal[0] + fk[1] * w.normal[1] +
-                                                    fk[2] * w.normal[2]);
-            else
-                line += ",";
-            if (stress_length > 0)
-                for (int d = 0; d < 3; ++d)
-                    line += fmt::format(",{:.17g}", fk[d] / stress_length);
-        }
-        for (std::size_t k = 0; k < nr; ++k) {
-            const auto u = body_displacement(m, static_cast<std::size_t>(bodies[k]), t);
-            const double* fk = bforce->value.data() + r * 3 * nr + 3 * k;
-            const double* mk = bmoment->value.data() + r * 3 * nr + 3 * k;
-            for (int d = 0; d < 3; ++d)
-                line += fmt::format(",{:.17g}", u[static_cast<std::size_t>(d)]);
-            for (int d = 0; d < 3; ++d)
-                line += fmt::format(",{:.17g}", fk[d]);
-            for (int d = 0; d < 3; ++d)
-                line += fmt::format(",{:.17g}", mk[d]);
-            if (stress_length > 0)
-                for (int d = 0; d < 3; ++d)
-                    line += fmt::format(",{:.17g}", fk[d] / stress_length);
-        }
+        for (std::size_t k = 0; k < nw; ++k)
+            wall_columns(line, m.walls[k], t, walls.force->value.data() + r * 3 * nw + 3 * k,
+                         walls.moment->value.data() + r * 3 * nw + 3 * k, stress_length);
+        for (std::size_t k = 0; k < nr; ++k)
+            body_columns(line, m, static_cast<std::size_t>(bodies[k]), t,
+                         body.force->value.data() + r * 3 * nr + 3 * k,
+                         body.moment->value.data() + r * 3 * nr + 3 * k, stress_length);
         line += '\n';
         if (std::fputs(line.c_str(), out.get()) < 0)
             throw InputError(fmt::format("{}: write failed (disk full?)", csv_path));

@@ -68,27 +68,9 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
     return {energy, broken, 0.0, 0.0};
 }
 
-/// The sums of a PMB row's hot loop in two lanes (see bond_kernels.hpp): force, energy, the
-/// breaking flags. op = 1 + s0, ol = 1 - s0 (compressive breaking; used only when Comp).
-template <class V>
-struct PmbLanes : Lanes<V> {
-    PmbLanes(const double* x_i, double op_, double ol_)
-        : Lanes<V>(x_i)
-        , op(op_)
-        , ol(ol_)
-        , OP(splat(op_, V{}))
-        , OL(splat(ol_, V{}))
-        , E(zero<V>())
-        , B(zero<typename Mask<V>::type>()) {}
-    double op, ol;
-    V OP, OL, E;
-    typename Mask<V>::type B;
-    int bad = 0;
-};
-
 /// Bonds k, k+1 of a PMB row into the two lanes.
 template <bool Energy, bool Comp, class V>
-PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
+PD_INLINE void pmb_pair(CheckedLanes<V>& L, const Arrays& v, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
     const V l = length(d);
@@ -97,7 +79,7 @@ PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
     const V ke = mul(load2(v.kb + k, V{}), ext);
     L.add_force(div(ke, l), d);
     if constexpr (Energy)
-        L.E = add(L.E, mul(ke, ext));
+        L.S = add(L.S, mul(ke, ext));
     L.B = flag(L.B, l, mul(x0, L.OP));
     if constexpr (Comp)
         L.B = flag(L.B, mul(x0, L.OL), l); // l < xi (1 - s0)
@@ -109,11 +91,11 @@ PD_INLINE void pmb_pair(PmbLanes<V>& L, const Arrays& v, offset_t k) {
 /// length xi (1 + s0) (`op` = 1 + s0 of the row's body: the product b.lc holds, without its
 /// load), or, when Comp, falls below xi (1 - s0), so the caller takes the general path.
 template <bool Energy, bool Comp, class V>
-PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_t k, offset_t k1,
-                        double* fi, double& e_i) {
+PD_INLINE bool pmb_rest(CheckedLanes<V>& L, const Arrays& v, std::int64_t i, offset_t k,
+                        offset_t k1, double* fi, double& e_i) {
     for (; k + 1 < k1; k += 2)
         pmb_pair<Energy, Comp>(L, v, k);
-    double e0 = lane0(L.E);
+    double e0 = lane0(L.S);
     if (k < k1) {
         double d[3];
         const double l = bond_d(v.x, i, v.nb[k], d);
@@ -128,7 +110,7 @@ PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_
     if (L.bad | any(L.B))
         return false;
     L.sum(fi);
-    e_i = e0 + lane1(L.E);
+    e_i = e0 + lane1(L.S);
     return true;
 }
 
@@ -137,7 +119,7 @@ PD_INLINE bool pmb_rest(PmbLanes<V>& L, const Arrays& v, std::int64_t i, offset_
 template <bool Energy, bool Comp, class V>
 PD_INLINE bool pmb_hot(const Arrays& v, std::int64_t i, double op, double ol, offset_t k0,
                        offset_t k1, double* fi, double& e_i) {
-    PmbLanes<V> L(v.x + 3 * i, op, ol);
+    CheckedLanes<V> L(v.x + 3 * i, op, ol);
     return pmb_rest<Energy, Comp>(L, v, i, k0, k1, fi, e_i);
 }
 
@@ -146,7 +128,7 @@ PD_INLINE bool pmb_hot(const Arrays& v, std::int64_t i, double op, double ol, of
 template <bool Energy, bool Comp>
 PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, double ol,
                                     offset_t k, offset_t k1, double* fi, double& e_i) {
-    PmbLanes<__m128d> L(v.x + 3 * i, op, ol);
+    CheckedLanes<__m128d> L(v.x + 3 * i, op, ol);
     const kernels::Wide W(v.x + 3 * i);
     const __m256d OP = _mm256_set1_pd(op), OL = _mm256_set1_pd(ol);
     __m256d B = _mm256_setzero_pd();
@@ -159,7 +141,7 @@ PD_AVX2 PD_INLINE bool pmb_hot_avx2(const Arrays& v, std::int64_t i, double op, 
         const __m256d ke = _mm256_mul_pd(_mm256_loadu_pd(v.kb + k), ext);
         W.add_force(L, _mm256_div_pd(ke, l), d);
         if constexpr (Energy)
-            L.E = kernels::fold(L.E, _mm256_mul_pd(ke, ext));
+            L.S = kernels::fold(L.S, _mm256_mul_pd(ke, ext));
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
         if constexpr (Comp)
             B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OL), _CMP_LT_OQ));

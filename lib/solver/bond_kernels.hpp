@@ -300,6 +300,26 @@ struct Lanes {
     }
 };
 
+/// The lanes of a hot loop that also tests its bonds: the force (Lanes), one more sum S (PMB:
+/// the energy; LPS pass 1: the dilatation), the flags of bonds reaching xi (1 + s0) (`op` =
+/// 1 + s0 of the row's body) and of bonds not intact; `ol` = 1 - s0 for the kernels that also
+/// break bonds compressed below xi (1 - s0) (the `Comp` instantiations; unused otherwise).
+template <class V>
+struct CheckedLanes : Lanes<V> {
+    CheckedLanes(const double* x_i, double op_, double ol_)
+        : Lanes<V>(x_i)
+        , op(op_)
+        , ol(ol_)
+        , OP(splat(op_, V{}))
+        , OL(splat(ol_, V{}))
+        , S(zero<V>())
+        , B(zero<typename Mask<V>::type>()) {}
+    double op, ol;
+    V OP, OL, S;
+    typename Mask<V>::type B;
+    int bad = 0;
+};
+
 /// d = x_j - x_i and |d| of one bond (the odd last one of a row, the general paths).
 PD_INLINE double bond_d(const double* x, std::int64_t i, std::int64_t j, double* d) {
     d[0] = x[3 * j] - x[3 * i];

@@ -50,27 +50,9 @@ struct Lps {
 // ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
 // dilatation, q and P ----
 
-/// Pass 1's lanes of a row: the dilatation sum and the breaking flags (op = 1 + s0, ol = 1 - s0,
-/// the latter used only when Comp).
-template <class V>
-struct Lanes1 : Lanes<V> {
-    Lanes1(const double* x_i, double op_, double ol_)
-        : Lanes<V>(x_i)
-        , op(op_)
-        , ol(ol_)
-        , OP(splat(op_, V{}))
-        , OL(splat(ol_, V{}))
-        , TH(zero<V>())
-        , B(zero<typename Mask<V>::type>()) {}
-    double op, ol;
-    V OP, OL, TH;
-    typename Mask<V>::type B;
-    int bad = 0;
-};
-
 /// Bonds k, k+1 of pass 1: u, v for pass 2 (no sqrt, division nor e there), theta's sum.
 template <bool Comp, class V>
-PD_INLINE void pass1_pair(Lanes1<V>& L, const Arrays& v, const Lps& w, offset_t k) {
+PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
     const V l = length(d);
@@ -79,7 +61,7 @@ PD_INLINE void pass1_pair(Lanes1<V>& L, const Arrays& v, const Lps& w, offset_t 
     const V wx = mul(wk, x0), e = sub(l, x0);
     store2(w.bu + k, mul(mul(wk, e), inv));
     store2(w.bv + k, mul(wx, inv));
-    L.TH = add(L.TH, mul(wx, e));
+    L.S = add(L.S, mul(wx, e));
     L.B = flag(L.B, l, mul(x0, L.OP));
     if constexpr (Comp)
         L.B = flag(L.B, mul(x0, L.OL), l); // l < xi (1 - s0)
@@ -89,11 +71,11 @@ PD_INLINE void pass1_pair(Lanes1<V>& L, const Arrays& v, const Lps& w, offset_t 
 /// The rest of pass 1 from bond k on (pairs, the odd last bond in lane 0); false when a bond is
 /// broken or breaking (the caller takes the general path), else th = the dilatation sum.
 template <bool Comp, class V>
-PD_INLINE bool pass1_rest(Lanes1<V>& L, const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
-                          offset_t k1, double& th) {
+PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std::int64_t i,
+                          offset_t k, offset_t k1, double& th) {
     for (; k + 1 < k1; k += 2)
         pass1_pair<Comp>(L, v, w, k);
-    double th0 = lane0(L.TH);
+    double th0 = lane0(L.S);
     if (k < k1) {
         double d[3];
         const double l = bond_d(v.x, i, v.nb[k], d);
@@ -105,14 +87,14 @@ PD_INLINE bool pass1_rest(Lanes1<V>& L, const Arrays& v, const Lps& w, std::int6
         if constexpr (Comp)
             L.bad |= static_cast<int>(l < v.xi[k] * L.ol);
     }
-    th = th0 + lane1(L.TH);
+    th = th0 + lane1(L.S);
     return !(L.bad | any(L.B));
 }
 
 template <bool Comp, class V>
 PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double op, double ol,
                          offset_t k0, offset_t k1, double& th) {
-    Lanes1<V> L(v.x + 3 * i, op, ol);
+    CheckedLanes<V> L(v.x + 3 * i, op, ol);
     return pass1_rest<Comp>(L, v, w, i, k0, k1, th);
 }
 
@@ -121,7 +103,7 @@ PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double o
 template <bool Comp>
 PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, double op,
                                       double ol, offset_t k, offset_t k1, double& th) {
-    Lanes1<__m128d> L(v.x + 3 * i, op, ol);
+    CheckedLanes<__m128d> L(v.x + 3 * i, op, ol);
     const Wide W(v.x + 3 * i);
     const __m256d OP = _mm256_set1_pd(op), OL = _mm256_set1_pd(ol), ONE = _mm256_set1_pd(1.0);
     __m256d B = _mm256_setzero_pd();
@@ -134,7 +116,7 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         const __m256d wx = _mm256_mul_pd(wk, x0), e = _mm256_sub_pd(l, x0);
         _mm256_storeu_pd(w.bu + k, _mm256_mul_pd(_mm256_mul_pd(wk, e), inv));
         _mm256_storeu_pd(w.bv + k, _mm256_mul_pd(wx, inv));
-        L.TH = fold(L.TH, _mm256_mul_pd(wx, e));
+        L.S = fold(L.S, _mm256_mul_pd(wx, e));
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
         if constexpr (Comp)
             B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OL), _CMP_LT_OQ));

@@ -107,15 +107,32 @@ Observables Solver::observe() const {
     o.friction_dissipation = f_.diss.friction;
     o.viscous_dissipation = f_.diss.viscous;
     o.contact_count = contact_count_;
-    o.wall_force = f_.wall_load.force;
-    o.wall_moment = f_.wall_load.moment;
+    const bool averaged = interval_steps_ > 0 && !interval_sum_.empty();
+    const std::size_t nw = f_.wall_load.force.size();
+    if (averaged) {
+        // Sums over the interval's steps (reduced over the ranks below), then the mean.
+        o.wall_force.assign(interval_sum_.begin(), interval_sum_.begin() + nw);
+        o.wall_moment.assign(interval_sum_.begin() + nw, interval_sum_.begin() + 2 * nw);
+    } else {
+        o.wall_force = f_.wall_load.force;
+        o.wall_moment = f_.wall_load.moment;
+    }
     o.broken_bonds = f_.broken_total;
     for (const auto& t : terms_)
         t->observe(f_, o);
     if (f_.dom->distributed())
         reduce(*f_.dom, o);
     o.broken_bonds /= 2;
-    f_.reactions.result(*f_.dom, o.body_force, o.body_moment);
+    if (averaged) {
+        for (std::size_t k = 0; k < nw; ++k) {
+            o.wall_force[k] /= static_cast<double>(interval_steps_);
+            o.wall_moment[k] /= static_cast<double>(interval_steps_);
+        }
+        const std::vector<double> load(interval_sum_.begin() + 2 * nw, interval_sum_.end());
+        f_.reactions.result(*f_.dom, o.body_force, o.body_moment, &load, interval_steps_);
+    } else {
+        f_.reactions.result(*f_.dom, o.body_force, o.body_moment);
+    }
     return o;
 }
 

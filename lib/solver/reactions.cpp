@@ -80,10 +80,17 @@ void BodyReactions::add_damping(std::int32_t b, const double* F, const double* p
 }
 
 void BodyReactions::result(const Domain& dom, std::vector<double>& force,
-                           std::vector<double>& moment) const {
-    std::vector<double> all = load_;
+                           std::vector<double>& moment, const std::vector<double>* load,
+                           std::int64_t steps) const {
+    std::vector<double> all = load ? *load : load_;
     if (dom.distributed())
         dom.sum(all);
+    if (steps > 1) {
+        // The average over the interval: the centroid is the mean centroid, the moment about it
+        // mean(sum x cross F) - mean(c) x mean(F) (exact for a fixed body).
+        for (auto& a : all)
+            a /= static_cast<double>(steps);
+    }
     const std::size_t nr = bodies_.size();
     force.assign(3 * nr, 0.0);
     moment.assign(3 * nr, 0.0);

@@ -38,9 +38,14 @@ class BodyReactions {
     /// does not move and s.f does not carry it (`fixed`): force and moment are added.
     void add_damping(std::int32_t b, const double* F, const double* point, const double* centroid,
                      bool fixed);
+    /// This rank's loads of the last evaluation: 10 per body (force, sum x cross force, sum m x,
+    /// sum m), the values result() reduces; the solver sums them over an observation interval.
+    const std::vector<double>& load() const { return load_; }
     /// Force (3 per body, N) and moment about the centroid (3 per body, N m), summed over the
-    /// ranks. Collective.
-    void result(const Domain& dom, std::vector<double>& force, std::vector<double>& moment) const;
+    /// ranks, from `load` (a sum of load() over `steps` evaluations: their average) or, when
+    /// null, from the last evaluation's. Collective.
+    void result(const Domain& dom, std::vector<double>& force, std::vector<double>& moment,
+                const std::vector<double>* load = nullptr, std::int64_t steps = 1) const;
 
   private:
     std::vector<std::int32_t> bodies_;

@@ -217,6 +217,35 @@ void Solver::advance() {
     f_.diss.damping += 0.5 * (damping_rate0 + f_.diss.damping_rate) * dt;
     f_.diss.friction += 0.5 * (friction_rate0 + f_.diss.friction_rate) * dt;
     f_.diss.viscous += 0.5 * (viscous_rate0 + f_.diss.viscous_rate) * dt;
+    // Reactions averaged over the observation interval (a few additions per wall and body).
+    const auto& wf = f_.wall_load.force;
+    const auto& wm = f_.wall_load.moment;
+    const auto& bl = f_.reactions.load();
+    if (interval_sum_.size() != wf.size() + wm.size() + bl.size())
+        interval_sum_.assign(wf.size() + wm.size() + bl.size(), 0.0);
+    double* acc = interval_sum_.data();
+    for (const double v : wf)
+        *acc++ += v;
+    for (const double v : wm)
+        *acc++ += v;
+    for (const double v : bl)
+        *acc++ += v;
+    ++interval_steps_;
+}
+
+void Solver::end_interval() {
+    std::fill(interval_sum_.begin(), interval_sum_.end(), 0.0);
+    interval_steps_ = 0;
+}
+
+void Solver::set_interval(std::vector<double> sum, std::int64_t steps) {
+    const std::size_t want =
+        f_.wall_load.force.size() + f_.wall_load.moment.size() + f_.reactions.load().size();
+    if (steps < 0 || (steps > 0 && sum.size() != want))
+        throw InternalError(fmt::format("interval sums: {} values over {} steps, expected {}",
+                                        sum.size(), steps, want));
+    interval_sum_ = std::move(sum);
+    interval_steps_ = steps;
 }
 
 } // namespace pd::solver

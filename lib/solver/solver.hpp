@@ -122,6 +122,16 @@ class Solver {
     const Dissipation& dissipation() const { return f_.diss; }
     void set_dissipation(const Dissipation& d) { f_.diss = d; }
 
+    /// Wall and body reactions are averaged over an observation interval: each step adds its
+    /// reactions to a sum, observe() reports sum / steps (the last evaluation's values when no
+    /// step was summed, as at t = 0) and end_interval() starts the next interval. The sums
+    /// (this rank's: wall force, wall moment, BodyReactions::load()) and their step count are
+    /// checkpointed, so a restart continues the interval bit for bit.
+    void end_interval();
+    const std::vector<double>& interval_sum() const { return interval_sum_; }
+    std::int64_t interval_steps() const { return interval_steps_; }
+    void set_interval(std::vector<double> sum, std::int64_t steps);
+
   private:
     /// Sums the force terms at the current state (the integrator's force evaluation).
     void compute_forces();
@@ -143,7 +153,9 @@ class Solver {
     double contact_energy_ = 0;   ///< contact, walls and repulsion of the last evaluation (J)
     std::int64_t contact_count_ = 0;
     double external_work_ = 0;
-    double power_ = 0; ///< external power at the last force evaluation
+    double power_ = 0;                 ///< external power at the last force evaluation
+    std::vector<double> interval_sum_; ///< reactions summed since end_interval() (this rank)
+    std::int64_t interval_steps_ = 0;  ///< steps in interval_sum_
     bool initialized_ = false;
 };
 

@@ -45,6 +45,9 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.set_attr(g, "external_power", c.external_power);
     for (std::size_t k = 0; k < c.dissipation.size(); ++k)
         f.set_attr(g, checkpoint_dissipation()[k], c.dissipation[k]);
+    f.set_attr(g, "interval_steps", c.interval_steps);
+    if (!c.interval_sum.empty())
+        f.set_attr(g, "interval_sum", c.interval_sum);
     f.set_attr(g, "complete", std::int32_t{1});
     f.flush();
     f.set_attr(root, "latest", name);
@@ -73,6 +76,16 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
     for (std::size_t k = 0; k < c.dissipation.size(); ++k)
         if (f.has_attr(g, checkpoint_dissipation()[k]))
             c.dissipation[k] = f.attr<double>(g, checkpoint_dissipation()[k]);
+    if (f.has_attr(g, "interval_steps"))
+        c.interval_steps = f.attr<std::int64_t>(g, "interval_steps");
+    if (f.has_attr(g, "interval_sum"))
+        c.interval_sum = f.attr_vector<double>(g, "interval_sum");
+    if (c.interval_steps < 0 || c.interval_steps > c.step)
+        throw SchemaError(f.name(), g + "@interval_steps",
+                          fmt::format("{}: must be in [0, step = {}]", c.interval_steps, c.step));
+    for (const double v : c.interval_sum)
+        if (!std::isfinite(v))
+            throw SchemaError(f.name(), g + "@interval_sum", "must be finite");
     // A restart truncates the frames after this step: the numbers must make sense first.
     if (c.step < 0 || c.step >= (std::int64_t{1} << 53))
         throw SchemaError(f.name(), g + "@step", fmt::format("{} is not a step number", c.step));

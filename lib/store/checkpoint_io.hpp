@@ -30,6 +30,11 @@ struct Checkpoint {
     /// the last force evaluation (W: damping, friction, viscous), in checkpoint_dissipation
     /// order. Files before pd-file 1.2 have none: zeros.
     std::array<double, 7> dissipation{};
+    /// The wall and body reactions summed over the steps of the open observation interval
+    /// (solver::Solver::interval_sum, summed over the ranks) and their count (pd-file 1.3;
+    /// absent before: an empty sum over 0 steps).
+    std::vector<double> interval_sum;
+    std::int64_t interval_steps = 0;
     /// Under MPI, what this rank writes: its nodes' rows of u, v, f and its bonds' entries of
     /// `alive` ([begin, end) runs; the vectors hold every node and bond). Empty = all.
     std::vector<std::array<std::uint64_t, 2>> node_runs, bond_runs;

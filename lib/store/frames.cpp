@@ -195,87 +195,116 @@ void ObservableWriter::add(std::int64_t step, double time, std::span<const doubl
     values_.insert(values_.end(), values.begin(), values.end());
 }
 
-void ObservableWriter::flush() {
-    // Series: the standard list, then the wall series (each 3 * walls_ values per row).
-    struct Col {
-        std::string name;
-        h5::dims_t inner;
-        std::string unit;
-        std::size_t width;
-    };
-    std::vector<Col> cols;
+namespace {
+
+/// One series of /observables: its name, the shape of a row's value, unit, values per row.
+struct Column {
+    std::string name;
+    h5::dims_t inner;
+    std::string unit;
+    std::size_t width;
+};
+
+/// The series in row order: the standard list, then the wall series (3 * walls values per row
+/// each), then the body series (3 * bodies).
+std::vector<Column> observable_columns(std::size_t walls, std::size_t bodies) {
+    std::vector<Column> cols;
     for (const auto& o : observable_list())
         cols.push_back({o.name, o.components == 3 ? h5::dims_t{3} : h5::dims_t{}, o.unit,
                         static_cast<std::size_t>(o.components)});
-    if (walls_ > 0) {
-        cols.push_back({"wall_force", {walls_, 3}, "N", 3 * walls_});
-        cols.push_back({"wall_moment", {walls_, 3}, "N m", 3 * walls_});
+    if (walls > 0) {
+        cols.push_back({"wall_force", {walls, 3}, "N", 3 * walls});
+        cols.push_back({"wall_moment", {walls, 3}, "N m", 3 * walls});
     }
-    const std::size_t nr = bodies_.size();
-    if (nr > 0) {
-        cols.push_back({"body_force", {nr, 3}, "N", 3 * nr});
-        cols.push_back({"body_moment", {nr, 3}, "N m", 3 * nr});
+    if (bodies > 0) {
+        cols.push_back({"body_force", {bodies, 3}, "N", 3 * bodies});
+        cols.push_back({"body_moment", {bodies, 3}, "N m", 3 * bodies});
     }
+    return cols;
+}
+
+/// A fresh /observables: every series, step and time shared by hard links, the body ids.
+void create_series(h5::File& f, const std::vector<Column>& cols,
+                   const std::vector<std::int32_t>& bodies) {
     const std::string first = O + "/" + cols.front().name;
-    if (!f_.exists(first + "/value")) {
-        f_.create_extendible<std::int64_t>(first + "/step", {}, 4096);
-        f_.create_extendible<double>(first + "/time", {}, 4096);
-        f_.set_attr(first + "/step", "unit", "1");
-        f_.set_attr(first + "/time", "unit", "s");
-        for (const auto& c : cols) {
-            const std::string g = O + "/" + c.name;
-            f_.create_extendible<double>(g + "/value", c.inner, 4096);
-            f_.set_attr(g + "/value", "unit", c.unit);
-            if (g != first) {
-                f_.hard_link(first + "/step", g + "/step");
-                f_.hard_link(first + "/time", g + "/time");
-            }
-        }
-        if (nr > 0) {
-            f_.write<std::int32_t>(O + "/body_force/body", bodies_, {nr});
-            f_.set_attr(O + "/body_force/body", "unit", "1");
-            raise_version(f_); // pd-file 1.2.0 objects
-            f_.hard_link(O + "/body_force/body", O + "/body_moment/body");
-        }
-    }
-    // A series this pd-solve records that a file from an older one lacks (a restart): created
-    // and filled with NaN up to the rows already there (pd-file 1.2 added the dissipation
-    // series).
+    f.create_extendible<std::int64_t>(first + "/step", {}, 4096);
+    f.create_extendible<double>(first + "/time", {}, 4096);
+    f.set_attr(first + "/step", "unit", "1");
+    f.set_attr(first + "/time", "unit", "s");
     for (const auto& c : cols) {
         const std::string g = O + "/" + c.name;
-        if (f_.exists(g + "/value"))
+        f.create_extendible<double>(g + "/value", c.inner, 4096);
+        f.set_attr(g + "/value", "unit", c.unit);
+        if (g != first) {
+            f.hard_link(first + "/step", g + "/step");
+            f.hard_link(first + "/time", g + "/time");
+        }
+    }
+    if (!bodies.empty()) {
+        f.write<std::int32_t>(O + "/body_force/body", bodies, {bodies.size()});
+        f.set_attr(O + "/body_force/body", "unit", "1");
+        raise_version(f); // pd-file 1.2.0 objects
+        f.hard_link(O + "/body_force/body", O + "/body_moment/body");
+    }
+}
+
+/// A series this pd-solve records that a file from an older one lacks (a restart): created
+/// and filled with NaN up to the rows already there (pd-file 1.2 added the dissipation series).
+void add_missing_series(h5::File& f, const std::vector<Column>& cols) {
+    const std::string first = O + "/" + cols.front().name;
+    for (const auto& c : cols) {
+        const std::string g = O + "/" + c.name;
+        if (f.exists(g + "/value"))
             continue;
-        const auto have = f_.shape(first + "/step").at(0);
-        f_.create_extendible<double>(g + "/value", c.inner, 4096);
-        f_.set_attr(g + "/value", "unit", c.unit);
-        f_.hard_link(first + "/step", g + "/step");
-        f_.hard_link(first + "/time", g + "/time");
+        const auto have = f.shape(first + "/step").at(0);
+        f.create_extendible<double>(g + "/value", c.inner, 4096);
+        f.set_attr(g + "/value", "unit", c.unit);
+        f.hard_link(first + "/step", g + "/step");
+        f.hard_link(first + "/time", g + "/time");
         if (have > 0)
-            f_.append<double>(
+            f.append<double>(
                 g + "/value",
                 std::vector<double>(have * c.width, std::numeric_limits<double>::quiet_NaN()),
                 have);
     }
-    const std::size_t rows = steps_.size();
-    if (rows == 0)
-        return;
+}
+
+/// Appends the buffered rows (values row-major, the columns side by side) to every series.
+void append_rows(h5::File& f, const std::vector<Column>& cols,
+                 const std::vector<std::int64_t>& steps, const std::vector<double>& times,
+                 const std::vector<double>& values) {
+    const std::size_t rows = steps.size();
     std::size_t width = 0;
     for (const auto& c : cols)
         width += c.width;
-    if (values_.size() != rows * width)
+    if (values.size() != rows * width)
         throw InternalError("observable rows have the wrong width");
     std::size_t col = 0;
+    std::vector<double> v;
     for (const auto& c : cols) {
-        std::vector<double> v;
+        v.clear();
         v.reserve(rows * c.width);
         for (std::size_t r = 0; r < rows; ++r)
             for (std::size_t k = 0; k < c.width; ++k)
-                v.push_back(values_[r * width + col + k]);
-        f_.append<double>(O + "/" + c.name + "/value", v, rows);
+                v.push_back(values[r * width + col + k]);
+        f.append<double>(O + "/" + c.name + "/value", v, rows);
         col += c.width;
     }
-    f_.append<std::int64_t>(first + "/step", steps_, rows);
-    f_.append<double>(first + "/time", times_, rows);
+    const std::string first = O + "/" + cols.front().name;
+    f.append<std::int64_t>(first + "/step", steps, rows);
+    f.append<double>(first + "/time", times, rows);
+}
+
+} // namespace
+
+void ObservableWriter::flush() {
+    const auto cols = observable_columns(walls_, bodies_.size());
+    if (!f_.exists(O + "/" + cols.front().name + "/value"))
+        create_series(f_, cols, bodies_);
+    add_missing_series(f_, cols);
+    if (steps_.empty())
+        return;
+    append_rows(f_, cols, steps_, times_, values_);
     steps_.clear();
     times_.clear();
     values_.clear();

@@ -22,8 +22,11 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
            OMP_NUM_THREADS="1", OMPI_MCA_rmaps_base_oversubscribe="1")
 EXIT_PREEMPTED = 75
 # Running totals that are summed over ranks (see the assertion below).
+# Series summed over steps on each rank: the integrals since t = 0, and the reactions averaged
+# over the observation interval (the open interval's sums are checkpointed the same way).
 ACCUMULATED = {"external_work", "fracture_energy", "damping_dissipation",
-               "friction_dissipation", "viscous_dissipation"}
+               "friction_dissipation", "viscous_dissipation", "wall_force", "wall_moment",
+               "body_force", "body_moment"}
 
 
 def launch(ranks, *args):

@@ -314,8 +314,10 @@ def body_series(f):
 
 def measure(h5):
     """Restitution (rebound / impact speed of the grain centres: two grains along their line of
-    centres, or one grain against the first wall along its normal), peak wall reaction, broken
-    bonds, whether the grains separated."""
+    centres, or one grain against the first wall along its normal), peak wall reaction (the
+    largest row of /observables/wall_force: a mean over the scene's observe_every steps, so
+    the per-step peak needs solver.observe_every = 1), broken bonds, whether the grains
+    separated."""
     import h5py
     import numpy as np
     r = {}

@@ -57,12 +57,12 @@ struct Run {
     MPI_Comm comm = MPI_COMM_WORLD;
     Schedule* schedule = nullptr;
 
-    solver::Observables last_obs;      ///< the latest observation (the observe action)
-    double imbalance = 1.0;            ///< compute time max/mean over ranks since the last frame
-    int stopped_by = 0;                ///< the signal that stopped the run early
-    std::int64_t stopped_at = -1;      ///< the step it stopped after (checkpointed)
-    bool stop = false;                 ///< the loop ends after the current action
-    std::vector<double> damage, force; ///< frame buffers
+    solver::Observables last_obs{}; ///< the latest observation (the observe action)
+    double imbalance = 1.0;         ///< compute time max/mean over ranks since the last frame
+    int stopped_by = 0;             ///< the signal that stopped the run early
+    std::int64_t stopped_at = -1;   ///< the step it stopped after (checkpointed)
+    bool stop = false;              ///< the loop ends after the current action
+    std::vector<double> damage{}, force{}; ///< frame buffers
 };
 
 /// One scheduled action: runs after a step when its trigger fires.

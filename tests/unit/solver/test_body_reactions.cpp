@@ -61,7 +61,8 @@ TEST(BodyReaction, FixedMeshedFloorCarriesTheWeight) {
     } run, best;
     for (int k = 0; k < steps; ++k) {
         s.advance();
-        const auto o = s.observe();
+        const auto o = s.observe(); // this step's reactions (an interval of one step)
+        s.end_interval();
         ASSERT_EQ(o.body_force.size(), 3u);
         double ke = 0;
         for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i) {
@@ -123,7 +124,8 @@ TEST(BodyReaction, DrivenPlateBalancesTheDiscMomentum) {
     const int steps = static_cast<int>(6e-4 / s.dt());
     for (int k = 0; k < steps; ++k) {
         s.advance();
-        const auto f = s.observe().body_force;
+        const auto f = s.observe().body_force; // this step's (an interval of one step)
+        s.end_interval();
         for (std::size_t d = 0; d < 2; ++d)
             impulse[d] += 0.5 * s.dt() * (prev[d] + f[d]);
         peak = std::max(peak, std::abs(f[1]));

@@ -38,6 +38,9 @@ void checkpoint_now(Run& r) {
                              d.damping_rate, d.friction_rate, d.viscous_rate};
     s.domain().sum(diss);
     std::copy(diss.begin(), diss.end(), c.dissipation.begin());
+    c.interval_sum = s.interval_sum();
+    s.domain().sum(c.interval_sum);
+    c.interval_steps = s.interval_steps();
     if (r.par) {
         c.node_runs = s.domain().runs();
         for (const auto& run : c.node_runs)

@@ -20,6 +20,7 @@ class Observe final : public Action {
     bool needs_energies() const override { return true; } // bond energies only where observed
     void run(Run& r, std::int64_t) override {
         r.last_obs = r.s.observe(); // collective: every rank at the same steps
+        r.s.end_interval();         // reactions: the next row averages the steps after this
         r.agreed = true;            // the checks after it see the same reduced values on every rank
     }
 };
