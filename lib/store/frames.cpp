@@ -383,13 +383,18 @@ void truncate_after(h5::File& f, std::int64_t step) {
         auto steps = f.read<std::int64_t>(owner + "/step");
         auto keep = static_cast<std::uint64_t>(std::upper_bound(steps.begin(), steps.end(), step) -
                                                steps.begin());
-        if (keep == steps.size())
-            return;
-        f.resize_rows(owner + "/step", keep);
-        f.resize_rows(owner + "/time", keep);
+        // Every series is cut to `keep`, not only when `step` is longer: a process killed while
+        // it appended a row (values first, then step, then time) leaves series of different
+        // lengths, with step possibly not yet past the checkpoint. The rows up to the checkpoint
+        // are complete in every series (the checkpoint is written after the flush).
+        auto cut_to_keep = [&](const std::string& p) {
+            if (f.exists(p) && f.shape(p).at(0) != keep)
+                f.resize_rows(p, keep);
+        };
+        cut_to_keep(owner + "/step");
+        cut_to_keep(owner + "/time");
         for (const auto& v : values)
-            if (f.exists(v))
-                f.resize_rows(v, keep);
+            cut_to_keep(v);
     };
     std::vector<std::string> fv;
     for (const auto& fi : frame_fields())

@@ -4,7 +4,9 @@ every 10 steps; a row's energies, momentum and integrals (external work, dissipa
 per-step run's values at that step, bitwise; its wall and body reactions are the mean of the
 per-step rows since the previous row (so the impulse over an interval is exact); and a run cut
 between two rows and restarted writes the rows of the uncut run bit for bit (the open
-interval's sums are checkpointed)."""
+interval's sums are checkpointed), also when the process was killed while it appended a row
+(some value series one row longer than step and time: the restart cuts every series back to
+the checkpoint)."""
 
 import json
 import shutil
@@ -61,15 +63,25 @@ def runs(tmp_path_factory, bin_dir):
     assert r.returncode == 0, r.stderr
     with h5py.File(packed, "r") as f:
         assert f["solver/observe_every"][()] == 10  # the scene default
-    files = {k: d / (k + ".h5") for k in ("every", "default", "cut")}
+    files = {k: d / (k + ".h5") for k in ("every", "default", "cut", "torn")}
     for path in files.values():
         shutil.copy(packed, path)
     with h5py.File(files["every"], "a") as f:
         f["solver/observe_every"][()] = 1
     for args in [(files["every"], "--steps", STEPS), (files["default"], "--steps", STEPS),
-                 (files["cut"], "--steps", 137),
-                 (files["cut"], "--restart", "--steps", STEPS - 137)]:
+                 (files["cut"], "--steps", 137), (files["torn"], "--steps", 137)]:
         r = run(tools["pd-solve"], *args, "-q")
+        assert r.returncode == 0, r.stderr
+    # A kill during an append: values written, step and time not yet (the append order).
+    with h5py.File(files["torn"], "a") as f:
+        n = f["observables/kinetic_energy/step"].shape[0]
+        for name in ("kinetic_energy", "wall_force"):
+            v = f["observables/%s/value" % name]
+            assert v.shape[0] == n
+            v.resize(n + 1, axis=0)
+            v[n] = 7.0
+    for path in (files["cut"], files["torn"]):
+        r = run(tools["pd-solve"], path, "--restart", "--steps", STEPS - 137, "-q")
         assert r.returncode == 0, r.stderr
     return {k: observables(v) for k, v in files.items()}
 
@@ -110,3 +122,11 @@ def test_a_restart_between_rows_continues_the_interval_bitwise(runs):
     assert 137 not in steps  # the cut falls inside an interval
     for name in sparse:
         np.testing.assert_array_equal(cut[name], sparse[name], err_msg=name)
+
+
+def test_a_restart_after_a_torn_append_cuts_every_series(runs):
+    sparse, steps = runs["default"]
+    torn, torn_steps = runs["torn"]
+    np.testing.assert_array_equal(torn_steps, steps)
+    for name in sparse:
+        np.testing.assert_array_equal(torn[name], sparse[name], err_msg=name)
