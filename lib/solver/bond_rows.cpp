@@ -207,6 +207,10 @@ void family_factors(Forces& f) {
         for (std::size_t a = 0; a < nr; ++a) {
             const auto body =
                 static_cast<std::size_t>(f.s.body[static_cast<std::size_t>(f.s.rows[a])]);
+            // RNP and fixed bodies keep factor 1; a fixed LPS body has no omega when no moving
+            // body is LPS (the per-bond array is then empty).
+            if (f.law.rnp[body] || f.m.bodies.fixed[body])
+                continue;
             for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
                 const auto kk = static_cast<std::size_t>(k);
                 (f.law.lps[body] ? f.b.omega[kk] : f.b.stiff[kk]) *= G[kk];

@@ -62,4 +62,37 @@ TEST(BondRows, PartialReadEqualsTheRowsOfTheWholeList) {
     std::filesystem::remove(path);
 }
 
+// A fixed LPS body beside a moving PMB body (ellipse_on_tip's tip): with no moving LPS body the
+// solver keeps no per-bond influence function, and the surface correction must leave the fixed
+// body alone instead of scaling that missing array (it wrote past it: pd-solve crashed).
+TEST(BondRows, SurfaceCorrectionLeavesAFixedLpsBodyAlone) {
+    const Log quiet("test", 0, Verbosity::quiet);
+    const std::string scene = R"({"dimension": 2,
+      "materials": {"ring": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7},
+                    "tip": {"law": "lps", "density": 1200, "youngs_modulus": 3.24e7,
+                            "poisson_ratio": 0.25}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "particles": [{"radius": 1e-3, "center": [0, 0], "material": "ring"},
+                    {"radius": 1e-3, "center": [0, -2.5e-3], "material": "tip", "fixed": true}],
+      "solver": {"final_time": 1e-3, "surface_correction": true}})";
+    const auto model = pipeline::build_scene(scene, "scene.json", quiet);
+    solver::Solver a(model);
+    EXPECT_TRUE(a.bonds().omega.empty());
+    const auto& b = a.bonds();
+    std::size_t fixed_bonds = 0, fixed_scaled = 0, ring_scaled = 0;
+    for (std::size_t i = 0; i + 1 < b.offsets.size(); ++i)
+        for (auto k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const bool scaled = b.stiff[kk] != b.beta[kk];
+            if (model.nodes.body[i] == 1) {
+                ++fixed_bonds;
+                fixed_scaled += scaled;
+            } else {
+                ring_scaled += scaled;
+            }
+        }
+    EXPECT_GT(fixed_bonds, 0u);
+    EXPECT_EQ(fixed_scaled, 0u); // factor 1 on the fixed body
+    EXPECT_GT(ring_scaled, 0u);  // the moving PMB disc's surface is corrected
+}
 } // namespace
