@@ -108,18 +108,24 @@ void parse_walls(SceneBuild& s) {
 void warn_close_to_walls(SceneBuild& s) {
     const model::Model& m = s.m;
     const Log& log = s.log;
-    // Grains that start within the contact radius of a wall are pushed off at t = 0.
+    // Grains that start within the contact radius of a wall are pushed off at t = 0: each
+    // node against the law between its grain's group and the wall's (none, or stiffness 0: the
+    // wall does not act on that grain, as on a protrusion that turns with the drum).
     for (std::size_t k = 0; k < m.walls.size(); ++k) {
         const auto& wall = m.walls[k];
         if (wall.start_time > 0)
             continue; // enters later
         std::size_t close = 0;
         double rc = 0;
-        for (const auto& p : m.contact)
-            if (p.group_a == wall.group || p.group_b == wall.group)
-                rc = std::max(rc, p.radius);
-        for (std::size_t i = 0; i < m.nodes.num(); ++i)
-            close += model::wall_distance(wall, &m.nodes.x0[3 * i]) < rc;
+        for (std::size_t i = 0; i < m.nodes.num(); ++i) {
+            const auto* p = m.contact_between(
+                m.bodies.group[static_cast<std::size_t>(m.nodes.body[i])], wall.group);
+            if (p == nullptr || !(p->stiffness > 0) || !(p->radius > 0) ||
+                !(model::wall_distance(wall, &m.nodes.x0[3 * i]) < p->radius))
+                continue;
+            ++close;
+            rc = std::max(rc, p->radius);
+        }
         if (close > 0)
             log.warn("walls[{}]: {} nodes start within the contact radius {:.3g} m of the wall "
                      "(they are pushed off at t = 0)",
