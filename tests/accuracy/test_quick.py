@@ -94,8 +94,8 @@ def test_wave_reference_is_rayleigh_lamb():
 def test_hole_field_error_converges(tmp_path):
     # Plate with a hole, outer band held at Kirsch's displacement: relative L2 error of the
     # displacement field, measured 4.85 / 0.99 % (PMB, order 2.3) with the surface correction
-    # (default; the hole's and the band's surface layers as stiff as the bulk); without it
-    # 4.20 / 2.04 % (order 1.04).
+    # (set by solve_level; the hole's and the band's surface layers as stiff as the bulk);
+    # without it 4.20 / 2.04 % (order 1.04).
     rows = levels(tmp_path, "hole", "pmb", [4e-4, 2e-4])
     falls(rows)
     assert accuracy.order(rows)[1] > 0.8
@@ -121,9 +121,9 @@ def test_kirsch_reference():
 
 def test_hertz_contact_duration(tmp_path):
     # Disc on a wall at 2 m/s: +26.1 % / +10.0 % of Hertz's duration at h = 0.1 / 0.05 mm with
-    # the surface correction (default; without it +45.4 % / +24.2 %: a softer surface layer); the
-    # contact must end, last longer than Hertz's (a discrete, penalty contact is softer) and get
-    # closer with refinement.
+    # the surface correction (set by solve_level; without it +45.4 % / +24.2 %: a softer surface
+    # layer); the contact must end, last longer than Hertz's (a discrete, penalty contact is
+    # softer) and get closer with refinement.
     rows = levels(tmp_path, "hertz", "v = 2 m/s", [1e-4, 5e-5])
     falls(rows)
     assert all(r["error"] > 0 for r in rows)
