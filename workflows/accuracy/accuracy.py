@@ -583,26 +583,27 @@ def solve_level(runner, problem, series, h):
         err, n, hh = wave_error(h5, L, W)
     elif problem == "hole":
         # A first pack gives the node positions for the band's per-node conditions.
-        h5, cp0, _ = runner.run(tag + "_nodes", hole_scene(h, series), solve=False)
+        h5, cp0, _ = runner.run(tag + "_nodes", hole_scene(h, series), sets=sets, solve=False)
         import h5py
         with h5py.File(h5, "r") as f:
             x0 = f["nodes/reference_position"][:]
         os.remove(h5)
         # A suddenly held band: the external work of a jump in displacement is not defined.
-        h5, cp, cs = runner.run(tag, hole_scene(h, series, x0),
+        h5, cp, cs = runner.run(tag, hole_scene(h, series, x0), sets=sets,
                                 solve_args=["--energy-tolerance", "1e6"])
         cp += cp0
         err, n, hh = hole_error(h5)
     elif problem == "hertz":
         v = float(series.split()[2])
-        h5, cp, cs = runner.run(tag, hertz_scene(h, v))
+        h5, cp, cs = runner.run(tag, hertz_scene(h, v), sets=sets)
         err, n, hh, tc = hertz_error(h5, v)
         os.remove(h5)
         return {"h": h, "nodes": int(n), "cpu_pack": cp, "cpu_solve": cs, "error": float(err),
                 "duration": tc, "hertz": hertz_duration(v)}
     else:
         from sweep import measure
-        h5, cp, cs = runner.run(tag, restitution_scene(h, series == "disc on wall"))
+        h5, cp, cs = runner.run(tag, restitution_scene(h, series == "disc on wall"),
+                                  sets=sets)
         r = measure(h5)
         err, hh = r["restitution"] / 0.8 - 1, h
         import h5py
