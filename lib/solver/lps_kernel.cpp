@@ -30,28 +30,34 @@ using namespace kernels;
 struct Lps {
     explicit Lps(BondData& b, BodyLaw& law)
         : dd(law.dimension)
+        , half(law.dimension == 2)
         , theta(law.theta.data())
         , q(law.q.data())
         , mw(law.m.data())
         , bu(b.len.data())
         , bv(b.inv_len.data())
-        , p(law.lps_p.data())
-        , ka(law.lps_a.data())
+        , bl(b.dist.data())
+        , ap(law.lps_ap.data())
         , kt(law.lps_k.data()) {}
     double dd;
+    bool half; // d = 2: theta / d as theta * 0.5 (exact: the bits of the division, one less)
     double *theta, *q;
     const double* mw;
     double* bu; // omega beta V_j e / l, pass 1 for pass 2
     double* bv; // omega beta V_j xi / l
-    double* p;  // P_i
-    const double *ka, *kt;
+    double* bl; // l, pass 1 for pass 2's energy (observation steps only)
+    double* ap; // A_i, P_i side by side
+    const double* kt;
+    double A(std::int64_t i) const { return ap[2 * i]; }
+    double P(std::int64_t i) const { return ap[2 * i + 1]; }
 };
 
 // ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
 // dilatation, q and P ----
 
-/// Bonds k, k+1 of pass 1: u, v for pass 2 (no sqrt, division nor e there), theta's sum.
-template <bool Comp, class V>
+/// Bonds k, k+1 of pass 1: u, v (and l when Energy) for pass 2 (no sqrt, division nor e
+/// there), theta's sum.
+template <bool Energy, bool Comp, class V>
 PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
@@ -61,6 +67,8 @@ PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, off
     const V wx = mul(wk, x0), e = sub(l, x0);
     store2(w.bu + k, mul(mul(wk, e), inv));
     store2(w.bv + k, mul(wx, inv));
+    if constexpr (Energy)
+        store2(w.bl + k, l);
     L.S = add(L.S, mul(wx, e));
     L.B = flag(L.B, l, mul(x0, L.OP));
     if constexpr (Comp)
@@ -70,11 +78,11 @@ PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, off
 
 /// The rest of pass 1 from bond k on (pairs, the odd last bond in lane 0); false when a bond is
 /// broken or breaking (the caller takes the general path), else th = the dilatation sum.
-template <bool Comp, class V>
+template <bool Energy, bool Comp, class V>
 PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std::int64_t i,
                           offset_t k, offset_t k1, double& th) {
     for (; k + 1 < k1; k += 2)
-        pass1_pair<Comp>(L, v, w, k);
+        pass1_pair<Energy, Comp>(L, v, w, k);
     double th0 = lane0(L.S);
     if (k < k1) {
         double d[3];
@@ -82,6 +90,8 @@ PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std
         const double inv = 1.0 / l, wx = v.wv[k] * v.xi[k], e = l - v.xi[k];
         w.bu[k] = v.wv[k] * e * inv;
         w.bv[k] = wx * inv;
+        if constexpr (Energy)
+            w.bl[k] = l;
         th0 += wx * e;
         L.bad |= static_cast<int>(l > v.xi[k] * L.op) | static_cast<int>(v.alive[k] != 1);
         if constexpr (Comp)
@@ -91,16 +101,16 @@ PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std
     return !(L.bad | any(L.B));
 }
 
-template <bool Comp, class V>
+template <bool Energy, bool Comp, class V>
 PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double op, double ol,
                          offset_t k0, offset_t k1, double& th) {
     CheckedLanes<V> L(v.x + 3 * i, op, ol);
-    return pass1_rest<Comp>(L, v, w, i, k0, k1, th);
+    return pass1_rest<Energy, Comp>(L, v, w, i, k0, k1, th);
 }
 
 #if defined(PD_KERNELS_AVX2)
 /// pass1_hot with four bonds per step in front (AVX2).
-template <bool Comp>
+template <bool Energy, bool Comp>
 PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, double op,
                                       double ol, offset_t k, offset_t k1, double& th) {
     CheckedLanes<__m128d> L(v.x + 3 * i, op, ol);
@@ -116,6 +126,8 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         const __m256d wx = _mm256_mul_pd(wk, x0), e = _mm256_sub_pd(l, x0);
         _mm256_storeu_pd(w.bu + k, _mm256_mul_pd(_mm256_mul_pd(wk, e), inv));
         _mm256_storeu_pd(w.bv + k, _mm256_mul_pd(wx, inv));
+        if constexpr (Energy)
+            _mm256_storeu_pd(w.bl + k, l);
         L.S = fold(L.S, _mm256_mul_pd(wx, e));
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
         if constexpr (Comp)
@@ -123,7 +135,7 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         L.bad |= not_intact<4>(v.alive + k);
     }
     L.bad |= _mm256_movemask_pd(B);
-    return pass1_rest<Comp>(L, v, w, i, k, k1, th);
+    return pass1_rest<Energy, Comp>(L, v, w, i, k, k1, th);
 }
 #endif
 
@@ -160,15 +172,18 @@ PD_INLINE bool pass1_owns(const Arrays& v, const Lps& w, const State& s, const B
     body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
     if (law.lps[body] && s.moving[static_cast<std::size_t>(i)])
         return true;
-    w.theta[i] = w.q[i] = w.p[i] = 0;
+    w.theta[i] = w.q[i] = w.ap[2 * i + 1] = 0;
     return false;
 }
 
-/// theta_i, q_i and P_i from the row's sums.
+/// theta_i, q_i and P_i from the row's sums (in registers, stored once).
 PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, bool damaged) {
-    w.theta[i] = w.dd * th / w.mw[i];
-    w.q[i] = damaged ? w.theta[i] / w.dd * (1.0 - mi / w.mw[i]) : 0.0;
-    w.p[i] = w.kt[i] * w.theta[i] - w.ka[i] * (w.theta[i] / w.dd + w.q[i]);
+    const double theta = w.dd * th / w.mw[i];
+    const double td = w.half ? theta * 0.5 : theta / w.dd; // theta / d
+    const double q = damaged ? td * (1.0 - mi / w.mw[i]) : 0.0;
+    w.theta[i] = theta;
+    w.q[i] = q;
+    w.ap[2 * i + 1] = w.kt[i] * theta - w.A(i) * (td + q);
 }
 
 /// Pass 1 of row a with the hot loop `hot` (a macro: see PD_PMB_ROW in bond_forces.cpp).
@@ -188,6 +203,30 @@ PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, 
 
 // ---- Pass 2: forces from both ends of every intact bond; the energy bonds broken in pass 1 held
 
+/// A_j, P_j of the bonds to ja (lane 0) and jb (lane 1).
+PD_INLINE void gather_ap(const double* ap, index_t ja, index_t jb, V2& a, V2& p) {
+    a = {ap[2 * ja], ap[2 * jb]};
+    p = {ap[2 * ja + 1], ap[2 * jb + 1]};
+}
+#if defined(__SSE2__)
+PD_INLINE void gather_ap(const double* ap, index_t ja, index_t jb, __m128d& a, __m128d& p) {
+    const __m128d x = _mm_loadu_pd(ap + 2 * static_cast<std::int64_t>(ja));
+    const __m128d y = _mm_loadu_pd(ap + 2 * static_cast<std::int64_t>(jb));
+    a = _mm_unpacklo_pd(x, y);
+    p = _mm_unpackhi_pd(x, y);
+}
+#endif
+#if defined(PD_KERNELS_AVX2)
+/// A_j, P_j of the four bonds from nb[k] on (lane m = bond k + m): four 16-byte loads.
+PD_AVX2 PD_INLINE void gather4_ap(const double* ap, const index_t* nb, __m256d& a, __m256d& p) {
+    const auto at = [&](int m) { return _mm_loadu_pd(ap + 2 * static_cast<std::int64_t>(nb[m])); };
+    const __m256d x = _mm256_insertf128_pd(_mm256_castpd128_pd256(at(0)), at(2), 1); // A0 P0 A2 P2
+    const __m256d y = _mm256_insertf128_pd(_mm256_castpd128_pd256(at(1)), at(3), 1); // A1 P1 A3 P3
+    a = _mm256_unpacklo_pd(x, y);
+    p = _mm256_unpackhi_pd(x, y);
+}
+#endif
+
 /// Pass 2's lanes of a row: the force, the deviatoric energy sum, A_i, P_i, theta_i / d.
 template <class V>
 struct Lanes2 : Lanes<V> {
@@ -201,19 +240,21 @@ struct Lanes2 : Lanes<V> {
     int bad = 0;
 };
 
-/// Bonds k, k+1 of pass 2: omega t / l = (A_i + A_j) u + (P_i + P_j) v, and with energies e
-/// again, bitwise as in pass 1 (observation steps only).
+/// Bonds k, k+1 of pass 2: omega t / l = (A_i + A_j) u + (P_i + P_j) v, and with energies the
+/// deviatoric extension from pass 1's l (observation steps only).
 template <bool Energy, class V>
 PD_INLINE void pass2_pair(Lanes2<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     const index_t ja = v.nb[k], jb = v.nb[k + 1];
     V d[3];
     gather2(v.x, ja, jb, L.X, d);
-    const V ab = add(mul(add(L.AI, pair(w.ka[ja], w.ka[jb], V{})), load2(w.bu + k, V{})),
-                     mul(add(L.PI, pair(w.p[ja], w.p[jb], V{})), load2(w.bv + k, V{})));
+    V aj, pj;
+    gather_ap(w.ap, ja, jb, aj, pj);
+    const V ab =
+        add(mul(add(L.AI, aj), load2(w.bu + k, V{})), mul(add(L.PI, pj), load2(w.bv + k, V{})));
     L.add_force(ab, d);
     if constexpr (Energy) {
         const V x0 = load2(v.xi + k, V{});
-        const V ed = sub(sub(length(d), x0), mul(L.TI, x0));
+        const V ed = sub(sub(load2(w.bl + k, V{}), x0), mul(L.TI, x0));
         L.W = add(L.W, mul(mul(load2(v.wv + k, V{}), ed), ed));
     }
     L.bad |= not_intact<2>(v.alive + k);
@@ -230,10 +271,10 @@ PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int6
     if (k < k1) {
         const index_t j = v.nb[k];
         double d[3];
-        const double l = bond_d(v.x, i, j, d);
-        L.add_force0((lane0(L.AI) + w.ka[j]) * w.bu[k] + (lane0(L.PI) + w.p[j]) * w.bv[k], d);
+        bond_d(v.x, i, j, d);
+        L.add_force0((lane0(L.AI) + w.A(j)) * w.bu[k] + (lane0(L.PI) + w.P(j)) * w.bv[k], d);
         if constexpr (Energy) {
-            const double ed = l - v.xi[k] - lane0(L.TI) * v.xi[k];
+            const double ed = w.bl[k] - v.xi[k] - lane0(L.TI) * v.xi[k];
             w0 += v.wv[k] * ed * ed;
         }
         L.bad |= static_cast<int>(v.alive[k] != 1);
@@ -246,7 +287,7 @@ PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int6
 template <bool Energy, class V>
 PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t k0, offset_t k1,
                          double* fi, double& wdev) {
-    Lanes2<V> L(v.x + 3 * i, w.ka[i], w.p[i], w.theta[i] / w.dd);
+    Lanes2<V> L(v.x + 3 * i, w.A(i), w.P(i), w.theta[i] / w.dd);
     return pass2_rest<Energy>(L, v, w, i, k0, k1, fi, wdev);
 }
 
@@ -255,20 +296,23 @@ PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t
 template <bool Energy>
 PD_AVX2 PD_INLINE bool pass2_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
                                       offset_t k1, double* fi, double& wdev) {
-    const double a_i = w.ka[i], p_i = w.p[i], t_i = w.theta[i] / w.dd;
+    const double a_i = w.A(i), p_i = w.P(i), t_i = w.theta[i] / w.dd;
     Lanes2<__m128d> L(v.x + 3 * i, a_i, p_i, t_i);
     const Wide W(v.x + 3 * i);
     const __m256d AI = _mm256_set1_pd(a_i), PI = _mm256_set1_pd(p_i), TI = _mm256_set1_pd(t_i);
     for (; k + 3 < k1; k += 4) {
         __m256d d[3];
         gather4(v.x, v.nb + k, W.X, d);
-        const __m256d ab = _mm256_add_pd(
-            _mm256_mul_pd(_mm256_add_pd(AI, gather4(w.ka, v.nb + k)), _mm256_loadu_pd(w.bu + k)),
-            _mm256_mul_pd(_mm256_add_pd(PI, gather4(w.p, v.nb + k)), _mm256_loadu_pd(w.bv + k)));
+        __m256d aj, pj;
+        gather4_ap(w.ap, v.nb + k, aj, pj);
+        const __m256d ab =
+            _mm256_add_pd(_mm256_mul_pd(_mm256_add_pd(AI, aj), _mm256_loadu_pd(w.bu + k)),
+                          _mm256_mul_pd(_mm256_add_pd(PI, pj), _mm256_loadu_pd(w.bv + k)));
         W.add_force(L, ab, d);
         if constexpr (Energy) {
             const __m256d x0 = _mm256_loadu_pd(v.xi + k);
-            const __m256d ed = _mm256_sub_pd(_mm256_sub_pd(length4(d), x0), _mm256_mul_pd(TI, x0));
+            const __m256d ed =
+                _mm256_sub_pd(_mm256_sub_pd(_mm256_loadu_pd(w.bl + k), x0), _mm256_mul_pd(TI, x0));
             L.W = fold(L.W, _mm256_mul_pd(_mm256_mul_pd(_mm256_loadu_pd(v.wv + k), ed), ed));
         }
         L.bad |= not_intact<4>(v.alive + k);
@@ -309,7 +353,7 @@ struct Row2 {
             continue;
         }
         const double e = l - v.xi[k];
-        const double t = (w.ka[i] + w.ka[j]) * e + v.xi[k] * (w.p[i] + w.p[j]);
+        const double t = (w.A(i) + w.A(j)) * e + v.xi[k] * (w.P(i) + w.P(j));
         const double ab = v.wv[k] * t / l;
         for (int c = 0; c < 3; ++c)
             fi[c] += ab * d[c];
@@ -325,7 +369,7 @@ struct Row2 {
 [[gnu::noinline]] inline double lps_released(const Arrays& v, const Lps& w, const BodyLaw& law,
                                              std::size_t body, std::int64_t a, std::int64_t i,
                                              double th_new, double w_after) {
-    const double kap = law.kappa[body], a_i = w.ka[i], dd = w.dd, mw = w.mw[i];
+    const double kap = law.kappa[body], a_i = w.A(i), dd = w.dd, mw = w.mw[i];
     const double th_b = w.theta[i] + dd * th_new / mw;
     double wdev_b = 0, mi_b = 0;
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
@@ -388,7 +432,7 @@ PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, s
     v.f[3 * i + 2] = fi[2];
     if (!Energy && !r.fresh)
         return;
-    const double w_after = 0.5 * law.kappa[body] * w.theta[i] * w.theta[i] + 0.5 * w.ka[i] * r.wdev;
+    const double w_after = 0.5 * law.kappa[body] * w.theta[i] * w.theta[i] + 0.5 * w.A(i) * r.wdev;
     energy += w_after * v.vol[i];
     repulsion += 0.25 * r.e_rep * v.vol[i]; // each pair from both ends
     if (Breakable && r.fresh)
@@ -416,7 +460,7 @@ PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, s
 template <bool Breakable, bool Energy, bool Comp, class V>
 Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
               const std::function<void()>& between) {
-    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<Comp, V>))).broken;
+    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<Energy, Comp, V>))).broken;
     if (between)
         between(); // ghosts' dilatation and q
     Sums r = over_rows(v.n, PD_PASS2_ROW((pass2_hot<Energy, V>)));
@@ -430,7 +474,8 @@ Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
 template <bool Breakable, bool Energy, bool Comp>
 PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
                            const std::function<void()>& between) {
-    const std::int64_t broken = over_rows_avx2(v.n, PD_PASS1_ROW(pass1_hot_avx2<Comp>)).broken;
+    const std::int64_t broken =
+        over_rows_avx2(v.n, PD_PASS1_ROW((pass1_hot_avx2<Energy, Comp>))).broken;
     if (between)
         between();
     Sums r = over_rows_avx2(v.n, PD_PASS2_ROW(pass2_hot_avx2<Energy>));

@@ -160,27 +160,40 @@ void Solver::initialize() {
     f_.diss.fracture = f_.diss.damping = f_.diss.friction = f_.diss.viscous = 0;
 }
 
+const double* Solver::kick_per_rho(double kick) {
+    if (kick_rho_.size() != f_.s.n || kick != kick_) {
+        kick_rho_.resize(f_.s.n);
+        for (std::size_t i = 0; i < f_.s.n; ++i)
+            kick_rho_[i] = kick / f_.s.rho[i];
+        kick_ = kick;
+    }
+    return kick_rho_.data();
+}
+
 void Solver::advance() {
     const double dt = dt_;
     const auto n = static_cast<std::int64_t>(f_.s.rows.size());
     const index_t* rows = f_.s.rows.data();
     const bool verlet = f_.m.solver.integrator == model::Integrator::velocity_verlet;
-    const double kick = verlet ? 0.5 * dt : dt;
+    const double* kr = kick_per_rho(verlet ? 0.5 * dt : dt);
+    const std::uint8_t *moving = f_.s.moving.data(), *fixed_dof = f_.s.fixed_dof.data();
+    double *v = f_.s.v.data(), *u = f_.s.u.data(), *x = f_.s.x.data();
+    const double *x0 = f_.s.x0.data(), *force = f_.s.f.data();
     {
         ScopedTimer t(f_.timers, f_.t_integrate);
         for_each_row(n, parallel_min_nodes, [&](std::int64_t r) {
             const std::int64_t i = rows[r];
-            if (!f_.s.moving[static_cast<std::size_t>(i)])
+            if (!moving[i])
                 return;
-            const double a = kick / f_.s.rho[static_cast<std::size_t>(i)];
-            const auto fixed = f_.s.fixed_dof[static_cast<std::size_t>(i)];
+            const double a = kr[i];
+            const auto fixed = fixed_dof[i];
             for (int d = 0; d < 3; ++d) {
                 if (fixed & (1u << d))
                     continue;
-                const auto k = static_cast<std::size_t>(3 * i + d);
-                f_.s.v[k] += a * f_.s.f[k];
-                f_.s.u[k] += dt * f_.s.v[k];
-                f_.s.x[k] = f_.s.x0[k] + f_.s.u[k];
+                const auto k = 3 * i + d;
+                v[k] += a * force[k];
+                u[k] += dt * v[k];
+                x[k] = x0[k] + u[k];
             }
         });
     }
@@ -197,18 +210,17 @@ void Solver::advance() {
     compute_forces();
     if (verlet) {
         ScopedTimer t(f_.timers, f_.t_integrate);
+        v = f_.s.v.data();
+        force = f_.s.f.data();
         for_each_row(n, parallel_min_nodes, [&](std::int64_t r) {
             const std::int64_t i = rows[r];
-            if (!f_.s.moving[static_cast<std::size_t>(i)])
+            if (!moving[i])
                 return;
-            const double a = kick / f_.s.rho[static_cast<std::size_t>(i)];
-            const auto fixed = f_.s.fixed_dof[static_cast<std::size_t>(i)];
-            for (int d = 0; d < 3; ++d) {
-                if (fixed & (1u << d))
-                    continue;
-                const auto k = static_cast<std::size_t>(3 * i + d);
-                f_.s.v[k] += a * f_.s.f[k];
-            }
+            const double a = kr[i];
+            const auto fixed = fixed_dof[i];
+            for (int d = 0; d < 3; ++d)
+                if (!(fixed & (1u << d)))
+                    v[3 * i + d] += a * force[3 * i + d];
         });
     }
     const double p = detail::external_power(f_);

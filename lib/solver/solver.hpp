@@ -141,6 +141,9 @@ class Solver {
     void init_state();
     /// Contact, walls, damping and friction flags, body masses, timers (constructor).
     void init_contact();
+    /// kick / rho_i of every node (the half or whole step's velocity change per unit force
+    /// density), computed again only when kick changes: the same quotients as in the loop.
+    const double* kick_per_rho(double kick);
 
     Forces f_;
     TermList terms_;
@@ -157,6 +160,8 @@ class Solver {
     std::vector<double> interval_sum_; ///< reactions summed since end_interval() (this rank)
     std::int64_t interval_steps_ = 0;  ///< steps in interval_sum_
     bool initialized_ = false;
+    std::vector<double> kick_rho_; ///< kick_per_rho()
+    double kick_ = 0;              ///< the kick of kick_rho_
 };
 
 } // namespace pd::solver
