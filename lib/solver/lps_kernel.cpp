@@ -50,6 +50,8 @@ struct Lps {
     const double* kt;
     double A(std::int64_t i) const { return ap[2 * i]; }
     double P(std::int64_t i) const { return ap[2 * i + 1]; }
+    /// t / d (2D: t * 0.5, exact, the bits of t / 2).
+    double by_d(double t) const { return half ? t * 0.5 : t / dd; }
 };
 
 // ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
@@ -179,7 +181,7 @@ PD_INLINE bool pass1_owns(const Arrays& v, const Lps& w, const State& s, const B
 /// theta_i, q_i and P_i from the row's sums (in registers, stored once).
 PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, bool damaged) {
     const double theta = w.dd * th / w.mw[i];
-    const double td = w.half ? theta * 0.5 : theta / w.dd; // theta / d
+    const double td = w.by_d(theta);
     const double q = damaged ? td * (1.0 - mi / w.mw[i]) : 0.0;
     w.theta[i] = theta;
     w.q[i] = q;
@@ -287,7 +289,7 @@ PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int6
 template <bool Energy, class V>
 PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t k0, offset_t k1,
                          double* fi, double& wdev) {
-    Lanes2<V> L(v.x + 3 * i, w.A(i), w.P(i), w.theta[i] / w.dd);
+    Lanes2<V> L(v.x + 3 * i, w.A(i), w.P(i), w.by_d(w.theta[i]));
     return pass2_rest<Energy>(L, v, w, i, k0, k1, fi, wdev);
 }
 
@@ -296,7 +298,7 @@ PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t
 template <bool Energy>
 PD_AVX2 PD_INLINE bool pass2_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
                                       offset_t k1, double* fi, double& wdev) {
-    const double a_i = w.A(i), p_i = w.P(i), t_i = w.theta[i] / w.dd;
+    const double a_i = w.A(i), p_i = w.P(i), t_i = w.by_d(w.theta[i]);
     Lanes2<__m128d> L(v.x + 3 * i, a_i, p_i, t_i);
     const Wide W(v.x + 3 * i);
     const __m256d AI = _mm256_set1_pd(a_i), PI = _mm256_set1_pd(p_i), TI = _mm256_set1_pd(t_i);

@@ -144,6 +144,11 @@ class Solver {
     /// kick / rho_i of every node (the half or whole step's velocity change per unit force
     /// density), computed again only when kick changes: the same quotients as in the loop.
     const double* kick_per_rho(double kick);
+    /// Velocity Verlet's second half kick (kr: kick_per_rho()); returns the external power at
+    /// the new state (detail::external_power()).
+    double second_kick(bool verlet, const double* kr);
+    /// Adds this evaluation's reactions to the interval's sums.
+    void add_interval();
 
     Forces f_;
     TermList terms_;
