@@ -367,7 +367,6 @@ void bond_constants(const State& s, BondData& b, BodyLaw& law) {
     b.wv.assign(b.omega.empty() ? 0 : nbond, 0.0);
     b.len.assign(b.wv.size(), 0.0);
     b.inv_len.assign(b.wv.size(), 0.0);
-    b.dist.assign(b.wv.size(), 0.0);
     for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a) {
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(s.rows[a])]);
         const double s0 = law.s0[body];

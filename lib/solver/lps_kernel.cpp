@@ -36,7 +36,6 @@ struct Lps {
         , mw(law.m.data())
         , bu(b.len.data())
         , bv(b.inv_len.data())
-        , bl(b.dist.data())
         , ap(law.lps_ap.data())
         , kt(law.lps_k.data()) {}
     double dd;
@@ -45,7 +44,6 @@ struct Lps {
     const double* mw;
     double* bu; // omega beta V_j e / l, pass 1 for pass 2
     double* bv; // omega beta V_j xi / l
-    double* bl; // l, pass 1 for pass 2's energy (observation steps only)
     double* ap; // A_i, P_i side by side
     const double* kt;
     double A(std::int64_t i) const { return ap[2 * i]; }
@@ -57,9 +55,8 @@ struct Lps {
 // ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
 // dilatation, q and P ----
 
-/// Bonds k, k+1 of pass 1: u, v (and l when Energy) for pass 2 (no sqrt, division nor e
-/// there), theta's sum.
-template <bool Energy, bool Comp, class V>
+/// Bonds k, k+1 of pass 1: u, v for pass 2 (no sqrt, division nor e there), theta's sum.
+template <bool Comp, class V>
 PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
@@ -69,8 +66,6 @@ PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, off
     const V wx = mul(wk, x0), e = sub(l, x0);
     store2(w.bu + k, mul(mul(wk, e), inv));
     store2(w.bv + k, mul(wx, inv));
-    if constexpr (Energy)
-        store2(w.bl + k, l);
     L.S = add(L.S, mul(wx, e));
     L.B = flag(L.B, l, mul(x0, L.OP));
     if constexpr (Comp)
@@ -80,11 +75,11 @@ PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, off
 
 /// The rest of pass 1 from bond k on (pairs, the odd last bond in lane 0); false when a bond is
 /// broken or breaking (the caller takes the general path), else th = the dilatation sum.
-template <bool Energy, bool Comp, class V>
+template <bool Comp, class V>
 PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std::int64_t i,
                           offset_t k, offset_t k1, double& th) {
     for (; k + 1 < k1; k += 2)
-        pass1_pair<Energy, Comp>(L, v, w, k);
+        pass1_pair<Comp>(L, v, w, k);
     double th0 = lane0(L.S);
     if (k < k1) {
         double d[3];
@@ -92,8 +87,6 @@ PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std
         const double inv = 1.0 / l, wx = v.wv[k] * v.xi[k], e = l - v.xi[k];
         w.bu[k] = v.wv[k] * e * inv;
         w.bv[k] = wx * inv;
-        if constexpr (Energy)
-            w.bl[k] = l;
         th0 += wx * e;
         L.bad |= static_cast<int>(l > v.xi[k] * L.op) | static_cast<int>(v.alive[k] != 1);
         if constexpr (Comp)
@@ -103,16 +96,16 @@ PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std
     return !(L.bad | any(L.B));
 }
 
-template <bool Energy, bool Comp, class V>
+template <bool Comp, class V>
 PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double op, double ol,
                          offset_t k0, offset_t k1, double& th) {
     CheckedLanes<V> L(v.x + 3 * i, op, ol);
-    return pass1_rest<Energy, Comp>(L, v, w, i, k0, k1, th);
+    return pass1_rest<Comp>(L, v, w, i, k0, k1, th);
 }
 
 #if defined(PD_KERNELS_AVX2)
 /// pass1_hot with four bonds per step in front (AVX2).
-template <bool Energy, bool Comp>
+template <bool Comp>
 PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, double op,
                                       double ol, offset_t k, offset_t k1, double& th) {
     CheckedLanes<__m128d> L(v.x + 3 * i, op, ol);
@@ -128,8 +121,6 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         const __m256d wx = _mm256_mul_pd(wk, x0), e = _mm256_sub_pd(l, x0);
         _mm256_storeu_pd(w.bu + k, _mm256_mul_pd(_mm256_mul_pd(wk, e), inv));
         _mm256_storeu_pd(w.bv + k, _mm256_mul_pd(wx, inv));
-        if constexpr (Energy)
-            _mm256_storeu_pd(w.bl + k, l);
         L.S = fold(L.S, _mm256_mul_pd(wx, e));
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
         if constexpr (Comp)
@@ -137,7 +128,7 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         L.bad |= not_intact<4>(v.alive + k);
     }
     L.bad |= _mm256_movemask_pd(B);
-    return pass1_rest<Energy, Comp>(L, v, w, i, k, k1, th);
+    return pass1_rest<Comp>(L, v, w, i, k, k1, th);
 }
 #endif
 
@@ -242,8 +233,8 @@ struct Lanes2 : Lanes<V> {
     int bad = 0;
 };
 
-/// Bonds k, k+1 of pass 2: omega t / l = (A_i + A_j) u + (P_i + P_j) v, and with energies the
-/// deviatoric extension from pass 1's l (observation steps only).
+/// Bonds k, k+1 of pass 2: omega t / l = (A_i + A_j) u + (P_i + P_j) v, and with energies e
+/// again, bitwise as in pass 1 (observation steps only).
 template <bool Energy, class V>
 PD_INLINE void pass2_pair(Lanes2<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     const index_t ja = v.nb[k], jb = v.nb[k + 1];
@@ -256,7 +247,7 @@ PD_INLINE void pass2_pair(Lanes2<V>& L, const Arrays& v, const Lps& w, offset_t 
     L.add_force(ab, d);
     if constexpr (Energy) {
         const V x0 = load2(v.xi + k, V{});
-        const V ed = sub(sub(load2(w.bl + k, V{}), x0), mul(L.TI, x0));
+        const V ed = sub(sub(length(d), x0), mul(L.TI, x0));
         L.W = add(L.W, mul(mul(load2(v.wv + k, V{}), ed), ed));
     }
     L.bad |= not_intact<2>(v.alive + k);
@@ -273,10 +264,10 @@ PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int6
     if (k < k1) {
         const index_t j = v.nb[k];
         double d[3];
-        bond_d(v.x, i, j, d);
+        const double l = bond_d(v.x, i, j, d);
         L.add_force0((lane0(L.AI) + w.A(j)) * w.bu[k] + (lane0(L.PI) + w.P(j)) * w.bv[k], d);
         if constexpr (Energy) {
-            const double ed = w.bl[k] - v.xi[k] - lane0(L.TI) * v.xi[k];
+            const double ed = l - v.xi[k] - lane0(L.TI) * v.xi[k];
             w0 += v.wv[k] * ed * ed;
         }
         L.bad |= static_cast<int>(v.alive[k] != 1);
@@ -313,8 +304,7 @@ PD_AVX2 PD_INLINE bool pass2_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         W.add_force(L, ab, d);
         if constexpr (Energy) {
             const __m256d x0 = _mm256_loadu_pd(v.xi + k);
-            const __m256d ed =
-                _mm256_sub_pd(_mm256_sub_pd(_mm256_loadu_pd(w.bl + k), x0), _mm256_mul_pd(TI, x0));
+            const __m256d ed = _mm256_sub_pd(_mm256_sub_pd(length4(d), x0), _mm256_mul_pd(TI, x0));
             L.W = fold(L.W, _mm256_mul_pd(_mm256_mul_pd(_mm256_loadu_pd(v.wv + k), ed), ed));
         }
         L.bad |= not_intact<4>(v.alive + k);
@@ -462,7 +452,7 @@ PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, s
 template <bool Breakable, bool Energy, bool Comp, class V>
 Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
               const std::function<void()>& between) {
-    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<Energy, Comp, V>))).broken;
+    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<Comp, V>))).broken;
     if (between)
         between(); // ghosts' dilatation and q
     Sums r = over_rows(v.n, PD_PASS2_ROW((pass2_hot<Energy, V>)));
@@ -476,8 +466,7 @@ Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
 template <bool Breakable, bool Energy, bool Comp>
 PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
                            const std::function<void()>& between) {
-    const std::int64_t broken =
-        over_rows_avx2(v.n, PD_PASS1_ROW((pass1_hot_avx2<Energy, Comp>))).broken;
+    const std::int64_t broken = over_rows_avx2(v.n, PD_PASS1_ROW(pass1_hot_avx2<Comp>)).broken;
     if (between)
         between();
     Sums r = over_rows_avx2(v.n, PD_PASS2_ROW(pass2_hot_avx2<Energy>));

@@ -121,8 +121,6 @@ struct BondData {
     /// both passes do one sqrt and one division per bond, and the force pass's bond force is
     /// (A_i + A_j) len + (P_i + P_j) inv_len.
     std::vector<double> len, inv_len;
-    /// LPS work array: l of the dilatation pass for the force pass's energy (observation steps).
-    std::vector<double> dist;
 };
 
 /// True if some node moved farther than `limit` (m) from where it was in `x_ref` (3 per node):
