@@ -382,15 +382,14 @@ void bond_constants(const State& s, BondData& b, BodyLaw& law) {
     }
     if (law.m.size() != s.n)
         return; // no LPS body
-    law.lps_p.assign(s.n, 0.0);
-    law.lps_a.assign(s.n, 0.0);
+    law.lps_ap.assign(2 * s.n, 0.0);
     law.lps_k.assign(s.n, 0.0);
     for (std::size_t i = 0; i < s.n; ++i) {
         const auto body = static_cast<std::size_t>(s.body[i]);
         const double mi = law.m[i];
         if (!law.lps[body] || !(mi > 0))
             continue; // (nodes neither owned nor ghosts have m = 0)
-        law.lps_a[i] = law.alpha * law.mu[body] / mi;
+        law.lps_ap[2 * i] = law.alpha * law.mu[body] / mi;
         law.lps_k[i] = law.dimension * law.kappa[body] / mi;
     }
 }

@@ -41,7 +41,7 @@ BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law);
 
 /// Fills the kernels' per-bond constants (b.kb, b.wv, b.lc) and the LPS per-node constants
-/// (law.lps_a, lps_k; lps_p sized) from the per-body law and the per-bond factors. Call again
+/// (law.lps_k, the A_i of law.lps_ap) from the per-body law and the per-bond factors. Call again
 /// whenever either changes; the kernels call it themselves when the sizes do not match.
 void bond_constants(const State& s, BondData& b, BodyLaw& law);
 

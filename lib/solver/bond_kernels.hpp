@@ -378,7 +378,7 @@ struct Wide {
 inline void ensure_constants(const State& s, BondData& b, const BodyLaw& law) {
     if (b.kb.size() != b.xi.size() || b.lc.size() != b.xi.size() ||
         (!b.omega.empty() && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
-        (law.m.size() == s.n && law.lps_a.size() != s.n))
+        (law.m.size() == s.n && law.lps_ap.size() != 2 * s.n))
         bond_constants(s, b, const_cast<BodyLaw&>(law));
 }
 

@@ -93,25 +93,15 @@ double external_power(const Forces& f) {
     // Power of gravity and force conditions on every component, of the reactions that impose
     // prescribed displacements (minus the internal force there), and of moving walls.
     double pw = 0;
-    const auto n = static_cast<std::int64_t>(f.s.rows.size());
-    const bool g = f.g[0] != 0 || f.g[1] != 0 || f.g[2] != 0;
-    const bool bc = !f.fbc.empty();
-    const bool prescribed = f.has_prescribed;
-    if (g || bc || prescribed) {
-        pw = sum_rows(n, parallel_min_nodes, [&](std::int64_t a) {
-            const auto ii = static_cast<std::size_t>(f.s.rows[static_cast<std::size_t>(a)]);
-            if (!f.s.moving[ii])
-                return 0.0;
-            double p = 0;
-            for (std::size_t d = 0; d < 3; ++d) {
-                const double ext = f.s.rho[ii] * f.g[d] + (bc ? f.fbc[3 * ii + d] : 0.0);
-                p += ext * f.s.v[3 * ii + d];
-                if (f.s.fixed_dof[ii] & (1u << d))
-                    p -= f.s.f[3 * ii + d] * f.s.v[3 * ii + d];
-            }
-            return p * f.s.vol[ii];
-        });
-    }
+    if (node_power_needed(f))
+        pw = sum_rows(
+            static_cast<std::int64_t>(f.s.rows.size()), parallel_min_nodes,
+            [&](std::int64_t a) { return node_power(f, static_cast<std::size_t>(f.s.rows[a])); });
+    return external_power(f, pw);
+}
+
+double external_power(const Forces& f, double nodes) {
+    double pw = nodes;
     for (std::size_t w = 0; w < f.m.walls.size(); ++w) {
         const auto p = wall_pose(f.m.walls[w], f.s.time);
         for (std::size_t d = 0; d < 3; ++d)

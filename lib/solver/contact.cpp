@@ -53,19 +53,29 @@ bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double
     if (limit <= 0)
         return true;
     const double lim2 = limit * limit;
-    bool far = false;
     const auto n = static_cast<std::int64_t>(s.rows.size());
-#pragma omp parallel for schedule(static) reduction(|| : far) if (n > parallel_min)
-    for (std::int64_t a = 0; a < n; ++a) {
-        const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
+    const index_t* rows = s.rows.data();
+    const double *x = s.x.data(), *xr = x_ref.data();
+    const auto moved = [&](std::int64_t a) {
+        const std::int64_t i = rows[a];
         double d2 = 0;
         for (int d = 0; d < 3; ++d) {
-            const double e = s.x[3 * i + d] - x_ref[3 * i + d];
+            const double e = x[3 * i + d] - xr[3 * i + d];
             d2 += e * e;
         }
-        far = far || d2 > lim2;
+        return d2 > lim2;
+    };
+    bool far = false;
+    if (threaded(n)) { // (no one-thread region on every step: see threaded())
+#pragma omp parallel for schedule(static) reduction(|| : far)
+        for (std::int64_t a = 0; a < n; ++a)
+            far = far || moved(a);
+        return far;
     }
-    return far;
+    for (std::int64_t a = 0; a < n; ++a)
+        if (moved(a))
+            return true;
+    return false;
 }
 
 namespace {

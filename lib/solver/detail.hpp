@@ -59,5 +59,25 @@ void apply_displacements(Forces& f);
 void break_precracks(Forces& f);
 /// Power of gravity, force conditions, prescribed displacements and moving walls (W).
 double external_power(const Forces& f);
+/// Does external_power() sum over the nodes (gravity, force or displacement conditions)?
+inline bool node_power_needed(const Forces& f) {
+    return f.has_gravity() || !f.fbc.empty() || f.has_prescribed;
+}
+/// Node i's share of external_power() (0 unless it moves).
+inline double node_power(const Forces& f, std::size_t i) {
+    if (!f.s.moving[i])
+        return 0.0;
+    const bool bc = !f.fbc.empty();
+    double p = 0;
+    for (std::size_t d = 0; d < 3; ++d) {
+        const double ext = f.s.rho[i] * f.g[d] + (bc ? f.fbc[3 * i + d] : 0.0);
+        p += ext * f.s.v[3 * i + d];
+        if (f.s.fixed_dof[i] & (1u << d))
+            p -= f.s.f[3 * i + d] * f.s.v[3 * i + d];
+    }
+    return p * f.s.vol[i];
+}
+/// external_power() given the nodes' sum `nodes` (the moving walls' share added).
+double external_power(const Forces& f, double nodes);
 
 } // namespace pd::solver::detail

@@ -30,21 +30,26 @@ using namespace kernels;
 struct Lps {
     explicit Lps(BondData& b, BodyLaw& law)
         : dd(law.dimension)
+        , half(law.dimension == 2)
         , theta(law.theta.data())
         , q(law.q.data())
         , mw(law.m.data())
         , bu(b.len.data())
         , bv(b.inv_len.data())
-        , p(law.lps_p.data())
-        , ka(law.lps_a.data())
+        , ap(law.lps_ap.data())
         , kt(law.lps_k.data()) {}
     double dd;
+    bool half; // d = 2: theta / d as theta * 0.5 (exact: the bits of the division, one less)
     double *theta, *q;
     const double* mw;
     double* bu; // omega beta V_j e / l, pass 1 for pass 2
     double* bv; // omega beta V_j xi / l
-    double* p;  // P_i
-    const double *ka, *kt;
+    double* ap; // A_i, P_i side by side
+    const double* kt;
+    double A(std::int64_t i) const { return ap[2 * i]; }
+    double P(std::int64_t i) const { return ap[2 * i + 1]; }
+    /// t / d (2D: t * 0.5, exact, the bits of t / 2).
+    double by_d(double t) const { return half ? t * 0.5 : t / dd; }
 };
 
 // ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
@@ -160,15 +165,18 @@ PD_INLINE bool pass1_owns(const Arrays& v, const Lps& w, const State& s, const B
     body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
     if (law.lps[body] && s.moving[static_cast<std::size_t>(i)])
         return true;
-    w.theta[i] = w.q[i] = w.p[i] = 0;
+    w.theta[i] = w.q[i] = w.ap[2 * i + 1] = 0;
     return false;
 }
 
-/// theta_i, q_i and P_i from the row's sums.
+/// theta_i, q_i and P_i from the row's sums (in registers, stored once).
 PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, bool damaged) {
-    w.theta[i] = w.dd * th / w.mw[i];
-    w.q[i] = damaged ? w.theta[i] / w.dd * (1.0 - mi / w.mw[i]) : 0.0;
-    w.p[i] = w.kt[i] * w.theta[i] - w.ka[i] * (w.theta[i] / w.dd + w.q[i]);
+    const double theta = w.dd * th / w.mw[i];
+    const double td = w.by_d(theta);
+    const double q = damaged ? td * (1.0 - mi / w.mw[i]) : 0.0;
+    w.theta[i] = theta;
+    w.q[i] = q;
+    w.ap[2 * i + 1] = w.kt[i] * theta - w.A(i) * (td + q);
 }
 
 /// Pass 1 of row a with the hot loop `hot` (a macro: see PD_PMB_ROW in bond_forces.cpp).
@@ -187,6 +195,30 @@ PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, 
     }
 
 // ---- Pass 2: forces from both ends of every intact bond; the energy bonds broken in pass 1 held
+
+/// A_j, P_j of the bonds to ja (lane 0) and jb (lane 1).
+PD_INLINE void gather_ap(const double* ap, index_t ja, index_t jb, V2& a, V2& p) {
+    a = {ap[2 * ja], ap[2 * jb]};
+    p = {ap[2 * ja + 1], ap[2 * jb + 1]};
+}
+#if defined(__SSE2__)
+PD_INLINE void gather_ap(const double* ap, index_t ja, index_t jb, __m128d& a, __m128d& p) {
+    const __m128d x = _mm_loadu_pd(ap + 2 * static_cast<std::int64_t>(ja));
+    const __m128d y = _mm_loadu_pd(ap + 2 * static_cast<std::int64_t>(jb));
+    a = _mm_unpacklo_pd(x, y);
+    p = _mm_unpackhi_pd(x, y);
+}
+#endif
+#if defined(PD_KERNELS_AVX2)
+/// A_j, P_j of the four bonds from nb[k] on (lane m = bond k + m): four 16-byte loads.
+PD_AVX2 PD_INLINE void gather4_ap(const double* ap, const index_t* nb, __m256d& a, __m256d& p) {
+    const auto at = [&](int m) { return _mm_loadu_pd(ap + 2 * static_cast<std::int64_t>(nb[m])); };
+    const __m256d x = _mm256_insertf128_pd(_mm256_castpd128_pd256(at(0)), at(2), 1); // A0 P0 A2 P2
+    const __m256d y = _mm256_insertf128_pd(_mm256_castpd128_pd256(at(1)), at(3), 1); // A1 P1 A3 P3
+    a = _mm256_unpacklo_pd(x, y);
+    p = _mm256_unpackhi_pd(x, y);
+}
+#endif
 
 /// Pass 2's lanes of a row: the force, the deviatoric energy sum, A_i, P_i, theta_i / d.
 template <class V>
@@ -208,8 +240,10 @@ PD_INLINE void pass2_pair(Lanes2<V>& L, const Arrays& v, const Lps& w, offset_t 
     const index_t ja = v.nb[k], jb = v.nb[k + 1];
     V d[3];
     gather2(v.x, ja, jb, L.X, d);
-    const V ab = add(mul(add(L.AI, pair(w.ka[ja], w.ka[jb], V{})), load2(w.bu + k, V{})),
-                     mul(add(L.PI, pair(w.p[ja], w.p[jb], V{})), load2(w.bv + k, V{})));
+    V aj, pj;
+    gather_ap(w.ap, ja, jb, aj, pj);
+    const V ab =
+        add(mul(add(L.AI, aj), load2(w.bu + k, V{})), mul(add(L.PI, pj), load2(w.bv + k, V{})));
     L.add_force(ab, d);
     if constexpr (Energy) {
         const V x0 = load2(v.xi + k, V{});
@@ -231,7 +265,7 @@ PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int6
         const index_t j = v.nb[k];
         double d[3];
         const double l = bond_d(v.x, i, j, d);
-        L.add_force0((lane0(L.AI) + w.ka[j]) * w.bu[k] + (lane0(L.PI) + w.p[j]) * w.bv[k], d);
+        L.add_force0((lane0(L.AI) + w.A(j)) * w.bu[k] + (lane0(L.PI) + w.P(j)) * w.bv[k], d);
         if constexpr (Energy) {
             const double ed = l - v.xi[k] - lane0(L.TI) * v.xi[k];
             w0 += v.wv[k] * ed * ed;
@@ -246,7 +280,7 @@ PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int6
 template <bool Energy, class V>
 PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t k0, offset_t k1,
                          double* fi, double& wdev) {
-    Lanes2<V> L(v.x + 3 * i, w.ka[i], w.p[i], w.theta[i] / w.dd);
+    Lanes2<V> L(v.x + 3 * i, w.A(i), w.P(i), w.by_d(w.theta[i]));
     return pass2_rest<Energy>(L, v, w, i, k0, k1, fi, wdev);
 }
 
@@ -255,16 +289,18 @@ PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t
 template <bool Energy>
 PD_AVX2 PD_INLINE bool pass2_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
                                       offset_t k1, double* fi, double& wdev) {
-    const double a_i = w.ka[i], p_i = w.p[i], t_i = w.theta[i] / w.dd;
+    const double a_i = w.A(i), p_i = w.P(i), t_i = w.by_d(w.theta[i]);
     Lanes2<__m128d> L(v.x + 3 * i, a_i, p_i, t_i);
     const Wide W(v.x + 3 * i);
     const __m256d AI = _mm256_set1_pd(a_i), PI = _mm256_set1_pd(p_i), TI = _mm256_set1_pd(t_i);
     for (; k + 3 < k1; k += 4) {
         __m256d d[3];
         gather4(v.x, v.nb + k, W.X, d);
-        const __m256d ab = _mm256_add_pd(
-            _mm256_mul_pd(_mm256_add_pd(AI, gather4(w.ka, v.nb + k)), _mm256_loadu_pd(w.bu + k)),
-            _mm256_mul_pd(_mm256_add_pd(PI, gather4(w.p, v.nb + k)), _mm256_loadu_pd(w.bv + k)));
+        __m256d aj, pj;
+        gather4_ap(w.ap, v.nb + k, aj, pj);
+        const __m256d ab =
+            _mm256_add_pd(_mm256_mul_pd(_mm256_add_pd(AI, aj), _mm256_loadu_pd(w.bu + k)),
+                          _mm256_mul_pd(_mm256_add_pd(PI, pj), _mm256_loadu_pd(w.bv + k)));
         W.add_force(L, ab, d);
         if constexpr (Energy) {
             const __m256d x0 = _mm256_loadu_pd(v.xi + k);
@@ -309,7 +345,7 @@ struct Row2 {
             continue;
         }
         const double e = l - v.xi[k];
-        const double t = (w.ka[i] + w.ka[j]) * e + v.xi[k] * (w.p[i] + w.p[j]);
+        const double t = (w.A(i) + w.A(j)) * e + v.xi[k] * (w.P(i) + w.P(j));
         const double ab = v.wv[k] * t / l;
         for (int c = 0; c < 3; ++c)
             fi[c] += ab * d[c];
@@ -325,7 +361,7 @@ struct Row2 {
 [[gnu::noinline]] inline double lps_released(const Arrays& v, const Lps& w, const BodyLaw& law,
                                              std::size_t body, std::int64_t a, std::int64_t i,
                                              double th_new, double w_after) {
-    const double kap = law.kappa[body], a_i = w.ka[i], dd = w.dd, mw = w.mw[i];
+    const double kap = law.kappa[body], a_i = w.A(i), dd = w.dd, mw = w.mw[i];
     const double th_b = w.theta[i] + dd * th_new / mw;
     double wdev_b = 0, mi_b = 0;
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
@@ -388,7 +424,7 @@ PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, s
     v.f[3 * i + 2] = fi[2];
     if (!Energy && !r.fresh)
         return;
-    const double w_after = 0.5 * law.kappa[body] * w.theta[i] * w.theta[i] + 0.5 * w.ka[i] * r.wdev;
+    const double w_after = 0.5 * law.kappa[body] * w.theta[i] * w.theta[i] + 0.5 * w.A(i) * r.wdev;
     energy += w_after * v.vol[i];
     repulsion += 0.25 * r.e_rep * v.vol[i]; // each pair from both ends
     if (Breakable && r.fresh)

@@ -41,23 +41,34 @@ void BodyReactions::before(const State& s) {
 }
 
 void BodyReactions::after(const State& s) {
-    for (std::size_t a = 0; a < rows_.size(); ++a) {
+    // Rows come body by body: each run of rows of one body sums into registers, which start
+    // from and go back to the body's load (the same additions in the same order).
+    const auto body_of = [&](std::size_t a) {
         const auto i = static_cast<std::size_t>(rows_[a]);
-        double* L =
-            &load_[10 * static_cast<std::size_t>(index_[static_cast<std::size_t>(s.body[i])])];
-        const double* x = &s.x[3 * i];
-        double F[3];
-        for (std::size_t d = 0; d < 3; ++d)
-            F[d] = (s.f[3 * i + d] - f0_[3 * a + d]) * s.vol[i];
-        const double mass = s.rho[i] * s.vol[i];
-        for (std::size_t d = 0; d < 3; ++d) {
-            L[d] += F[d];
-            L[6 + d] += mass * x[d];
+        return index_[static_cast<std::size_t>(s.body[i])];
+    };
+    for (std::size_t a = 0; a < rows_.size();) {
+        const std::int32_t k = body_of(a);
+        double* L = &load_[10 * static_cast<std::size_t>(k)];
+        double acc[10];
+        std::copy(L, L + 10, acc);
+        for (; a < rows_.size() && body_of(a) == k; ++a) {
+            const auto i = static_cast<std::size_t>(rows_[a]);
+            const double* x = &s.x[3 * i];
+            double F[3];
+            for (std::size_t d = 0; d < 3; ++d)
+                F[d] = (s.f[3 * i + d] - f0_[3 * a + d]) * s.vol[i];
+            const double mass = s.rho[i] * s.vol[i];
+            for (std::size_t d = 0; d < 3; ++d) {
+                acc[d] += F[d];
+                acc[6 + d] += mass * x[d];
+            }
+            acc[3] += x[1] * F[2] - x[2] * F[1];
+            acc[4] += x[2] * F[0] - x[0] * F[2];
+            acc[5] += x[0] * F[1] - x[1] * F[0];
+            acc[9] += mass;
         }
-        L[3] += x[1] * F[2] - x[2] * F[1];
-        L[4] += x[2] * F[0] - x[0] * F[2];
-        L[5] += x[0] * F[1] - x[1] * F[0];
-        L[9] += mass;
+        std::copy(acc, acc + 10, L);
     }
 }
 

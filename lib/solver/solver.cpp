@@ -160,27 +160,78 @@ void Solver::initialize() {
     f_.diss.fracture = f_.diss.damping = f_.diss.friction = f_.diss.viscous = 0;
 }
 
+const double* Solver::kick_per_rho(double kick) {
+    if (kick_rho_.size() != f_.s.n || kick != kick_) {
+        kick_rho_.resize(f_.s.n);
+        for (std::size_t i = 0; i < f_.s.n; ++i)
+            kick_rho_[i] = kick / f_.s.rho[i];
+        kick_ = kick;
+    }
+    return kick_rho_.data();
+}
+
+double Solver::second_kick(bool verlet, const double* kr) {
+    const auto n = static_cast<std::int64_t>(f_.s.rows.size());
+    const index_t* rows = f_.s.rows.data();
+    const std::uint8_t *moving = f_.s.moving.data(), *fixed_dof = f_.s.fixed_dof.data();
+    double* v = f_.s.v.data();
+    const double* force = f_.s.f.data();
+    const auto kick = [&](std::int64_t i) {
+        const double a = kr[i];
+        const auto fixed = fixed_dof[i];
+        for (int d = 0; d < 3; ++d)
+            if (!(fixed & (1u << d)))
+                v[3 * i + d] += a * force[3 * i + d];
+    };
+    if (verlet && !threaded(n, parallel_min_nodes)) {
+        // The half kick and the nodes' external power in one pass (the power summed in row
+        // order, as sum_rows adds it on one thread: the same bits).
+        ScopedTimer t(f_.timers, f_.t_integrate);
+        const bool power = detail::node_power_needed(f_);
+        double pw = 0;
+        for (std::int64_t r = 0; r < n; ++r) {
+            const std::int64_t i = rows[r];
+            if (moving[i])
+                kick(i);
+            if (power)
+                pw += detail::node_power(f_, static_cast<std::size_t>(i));
+        }
+        return detail::external_power(f_, pw);
+    }
+    if (verlet) {
+        ScopedTimer t(f_.timers, f_.t_integrate);
+        for_each_row(n, parallel_min_nodes, [&](std::int64_t r) {
+            if (moving[rows[r]])
+                kick(rows[r]);
+        });
+    }
+    return detail::external_power(f_);
+}
+
 void Solver::advance() {
     const double dt = dt_;
     const auto n = static_cast<std::int64_t>(f_.s.rows.size());
     const index_t* rows = f_.s.rows.data();
     const bool verlet = f_.m.solver.integrator == model::Integrator::velocity_verlet;
-    const double kick = verlet ? 0.5 * dt : dt;
+    const double* kr = kick_per_rho(verlet ? 0.5 * dt : dt);
+    const std::uint8_t *moving = f_.s.moving.data(), *fixed_dof = f_.s.fixed_dof.data();
+    double *v = f_.s.v.data(), *u = f_.s.u.data(), *x = f_.s.x.data();
+    const double *x0 = f_.s.x0.data(), *force = f_.s.f.data();
     {
         ScopedTimer t(f_.timers, f_.t_integrate);
         for_each_row(n, parallel_min_nodes, [&](std::int64_t r) {
             const std::int64_t i = rows[r];
-            if (!f_.s.moving[static_cast<std::size_t>(i)])
+            if (!moving[i])
                 return;
-            const double a = kick / f_.s.rho[static_cast<std::size_t>(i)];
-            const auto fixed = f_.s.fixed_dof[static_cast<std::size_t>(i)];
+            const double a = kr[i];
+            const auto fixed = fixed_dof[i];
             for (int d = 0; d < 3; ++d) {
                 if (fixed & (1u << d))
                     continue;
-                const auto k = static_cast<std::size_t>(3 * i + d);
-                f_.s.v[k] += a * f_.s.f[k];
-                f_.s.u[k] += dt * f_.s.v[k];
-                f_.s.x[k] = f_.s.x0[k] + f_.s.u[k];
+                const auto k = 3 * i + d;
+                v[k] += a * force[k];
+                u[k] += dt * v[k];
+                x[k] = x0[k] + u[k];
             }
         });
     }
@@ -195,28 +246,16 @@ void Solver::advance() {
         f_.dom->exchange({&f_.s.x, &f_.s.u, &f_.s.v}, 3);
     }
     compute_forces();
-    if (verlet) {
-        ScopedTimer t(f_.timers, f_.t_integrate);
-        for_each_row(n, parallel_min_nodes, [&](std::int64_t r) {
-            const std::int64_t i = rows[r];
-            if (!f_.s.moving[static_cast<std::size_t>(i)])
-                return;
-            const double a = kick / f_.s.rho[static_cast<std::size_t>(i)];
-            const auto fixed = f_.s.fixed_dof[static_cast<std::size_t>(i)];
-            for (int d = 0; d < 3; ++d) {
-                if (fixed & (1u << d))
-                    continue;
-                const auto k = static_cast<std::size_t>(3 * i + d);
-                f_.s.v[k] += a * f_.s.f[k];
-            }
-        });
-    }
-    const double p = detail::external_power(f_);
+    const double p = second_kick(verlet, kr);
     external_work_ += 0.5 * (power_ + p) * dt; // trapezoidal in time
     power_ = p;
     f_.diss.damping += 0.5 * (damping_rate0 + f_.diss.damping_rate) * dt;
     f_.diss.friction += 0.5 * (friction_rate0 + f_.diss.friction_rate) * dt;
     f_.diss.viscous += 0.5 * (viscous_rate0 + f_.diss.viscous_rate) * dt;
+    add_interval();
+}
+
+void Solver::add_interval() {
     // Reactions averaged over the observation interval (a few additions per wall and body).
     const auto& wf = f_.wall_load.force;
     const auto& wm = f_.wall_load.moment;

@@ -141,6 +141,14 @@ class Solver {
     void init_state();
     /// Contact, walls, damping and friction flags, body masses, timers (constructor).
     void init_contact();
+    /// kick / rho_i of every node (the half or whole step's velocity change per unit force
+    /// density), computed again only when kick changes: the same quotients as in the loop.
+    const double* kick_per_rho(double kick);
+    /// Velocity Verlet's second half kick (kr: kick_per_rho()); returns the external power at
+    /// the new state (detail::external_power()).
+    double second_kick(bool verlet, const double* kr);
+    /// Adds this evaluation's reactions to the interval's sums.
+    void add_interval();
 
     Forces f_;
     TermList terms_;
@@ -157,6 +165,8 @@ class Solver {
     std::vector<double> interval_sum_; ///< reactions summed since end_interval() (this rank)
     std::int64_t interval_steps_ = 0;  ///< steps in interval_sum_
     bool initialized_ = false;
+    std::vector<double> kick_rho_; ///< kick_per_rho()
+    double kick_ = 0;              ///< the kick of kick_rho_
 };
 
 } // namespace pd::solver

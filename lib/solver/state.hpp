@@ -155,10 +155,11 @@ struct BodyLaw {
     /// LPS: theta / d (1 - m_intact / m) per node, 0 for a whole family (work array; see the
     /// LPS kernel in bond_forces.cpp)
     std::vector<double> q;
-    /// LPS per node: alpha mu / m_i and d kappa / m_i (constants), and the node's share of the
-    /// bond force, P_i = d kappa theta_i / m_i - alpha mu / m_i (theta_i / d + q_i) (work
-    /// array): t_ij + t_ji = omega ((A_i + A_j) e + xi (P_i + P_j)).
-    std::vector<double> lps_a, lps_k, lps_p;
+    /// LPS per node: d kappa / m_i (constant), and in `lps_ap` two values per node side by side,
+    /// A_i = alpha mu / m_i (constant) and the node's share of the bond force, P_i = d kappa
+    /// theta_i / m_i - A_i (theta_i / d + q_i) (work array): t_ij + t_ji = omega ((A_i + A_j) e +
+    /// xi (P_i + P_j)). Side by side, the force pass loads A_j and P_j of a bond in one load.
+    std::vector<double> lps_k, lps_ap;
     /// Compute the elastic and repulsion energies in the next force evaluation (observation
     /// steps); the released (fracture) energy is always computed.
     bool energy = true;

@@ -10,10 +10,14 @@ class Gravity final : public ForceTerm {
     void add(Forces& f) override {
         auto& s = f.s;
         const auto n = static_cast<std::int64_t>(s.rows.size());
+        const double g[3] = {f.g[0], f.g[1], f.g[2]}; // in registers (s.f could alias f.g)
+        const index_t* rows = s.rows.data();
+        const double* rho = s.rho.data();
+        double* fd = s.f.data();
         for_each_row(n, parallel_min_nodes, [&](std::int64_t a) {
-            const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
+            const std::int64_t i = rows[a];
             for (int d = 0; d < 3; ++d)
-                s.f[3 * i + d] += s.rho[static_cast<std::size_t>(i)] * f.g[d];
+                fd[3 * i + d] += rho[i] * g[d];
         });
     }
     std::vector<const char*> checkpointed() const override { return {"external_work", "power"}; }

@@ -16,7 +16,8 @@ class LpsBonds final : public BondTerm {
         if (f.dom->distributed())
             between = [&f] {
                 ScopedTimer th(f.timers, f.t_halo);
-                f.dom->exchange({&f.law.theta, &f.law.q, &f.law.lps_p}, 1);
+                f.dom->exchange({&f.law.theta, &f.law.q}, 1);
+                f.dom->exchange({&f.law.lps_ap}, 2); // P_j (and the constant A_j beside it)
             };
         book(f, lps_bond_forces(f.s, f.b, f.law, between));
     }
