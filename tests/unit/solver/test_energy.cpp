@@ -11,6 +11,8 @@
 
 #include <cmath>
 #include <random>
+#include <string>
+#include <utility>
 
 namespace {
 
@@ -155,21 +157,22 @@ TEST(Energy, FractureClosesTheBalance) {
     }
 }
 
-TEST(Energy, DampingFrictionAndViscousDissipationAreCounted) {
-    // Two discs collide obliquely with restitution 0.5 and friction 0.4, in a viscous medium:
-    // every channel takes energy, and the balance closes.
+/// Two PMB discs colliding obliquely for 0.6 ms with the given contact and loading, at
+/// `safety` x the stability limit; returns the final observables and the balance's drift.
+std::pair<solver::Observables, Drift> oblique_discs(const std::string& contact,
+                                                    const std::string& loading, double safety) {
     auto m = pipeline::build_scene(R"({"dimension": 2, "title": "t",
       "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
       "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
       "particles": [
         {"radius": 1e-3, "center": [-1.1e-3, 0], "material": "m", "velocity": [1, 0.3]},
         {"radius": 1e-3, "center": [1.1e-3, 0.6e-3], "material": "m", "velocity": [-1, -0.3]}],
-      "contact": {"restitution": 0.5, "friction": 0.4},
-      "loading": {"viscous_damping": 50},
+      "contact": )" + contact + R"(, "loading": )" +
+                                       loading + R"(,
       "solver": {"final_time": 6e-4}})",
                                    "t", quiet);
     solver::Solver s(m);
-    s.set_dt(0.7 * s.stable_dt().limit);
+    s.set_dt(safety * s.stable_dt().limit);
     s.initialize();
     Drift drift;
     drift.start(s.observe());
@@ -178,7 +181,14 @@ TEST(Energy, DampingFrictionAndViscousDissipationAreCounted) {
         s.advance();
         drift.add(s.observe());
     }
-    const auto o = s.observe();
+    return {s.observe(), drift};
+}
+
+TEST(Energy, DampingFrictionAndViscousDissipationAreCounted) {
+    // Two discs collide obliquely with restitution 0.5 and friction 0.4, in a viscous medium:
+    // every channel takes energy, and the balance closes.
+    const auto [o, drift] = oblique_discs(R"({"restitution": 0.5, "friction": 0.4})",
+                                          R"({"viscous_damping": 50})", 0.7);
     const double ke0 = drift.scale;
     EXPECT_GT(o.damping_dissipation, 0.05 * ke0);
     EXPECT_GT(o.friction_dissipation, 1e-3 * ke0);
@@ -190,26 +200,8 @@ TEST(Energy, FrictionAloneIsStableAtTheAutomaticStep) {
     // Friction without any damping at the automatic dt (0.85 x the limit): the stick cap once
     // stopped each pair's slip within one step, a node with several partners overshot, and the
     // balance grew by 5.4 % in 203 steps (pd-solve stopped the run); now 0.21 %.
-    auto m = pipeline::build_scene(R"({"dimension": 2, "title": "t",
-      "materials": {"m": {"law": "pmb", "density": 1200, "youngs_modulus": 3.24e7}},
-      "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
-      "particles": [
-        {"radius": 1e-3, "center": [-1.1e-3, 0], "material": "m", "velocity": [1, 0.3]},
-        {"radius": 1e-3, "center": [1.1e-3, 0.6e-3], "material": "m", "velocity": [-1, -0.3]}],
-      "contact": {"restitution": 1.0, "friction": 0.4},
-      "solver": {"final_time": 6e-4}})",
-                                   "t", quiet);
-    solver::Solver s(m);
-    s.set_dt(0.85 * s.stable_dt().limit);
-    s.initialize();
-    Drift drift;
-    drift.start(s.observe());
-    const auto steps = static_cast<int>(6e-4 / s.dt());
-    for (int k = 0; k < steps; ++k) {
-        s.advance();
-        drift.add(s.observe());
-    }
-    EXPECT_GT(s.observe().friction_dissipation, 1e-3 * drift.scale);
+    const auto [o, drift] = oblique_discs(R"({"restitution": 1.0, "friction": 0.4})", "{}", 0.85);
+    EXPECT_GT(o.friction_dissipation, 1e-3 * drift.scale);
     EXPECT_LT(drift.relative(), 5e-3);
 }
 
