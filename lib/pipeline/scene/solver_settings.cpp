@@ -36,7 +36,7 @@ void parse_solver(SceneBuild& s) {
     // nothing but the instantaneous values between rows (issue 15).
     S.observe_every = static_cast<std::int64_t>(positive(sv, "solver", "observe_every", 10));
     S.checkpoint_interval = number(sv, "solver", "checkpoint_interval", 0);
-    S.surface_correction = boolean(sv, "solver", "surface_correction", false);
+    S.surface_correction = boolean(sv, "solver", "surface_correction", true);
     S.quadrature_calibration = boolean(sv, "solver", "quadrature_calibration", true);
     if (sv.contains("fields")) {
         if (!sv["fields"].is_array())
