@@ -517,6 +517,17 @@ Without the correction only the strip's LPS row is within 0.5 % (+0.39 % at h = 
 LPS plate -0.63 %); the others would need delta / W <= ~1.5 % (the plate at h = 0.02 mm, the 3D
 bar at h = 0.025 mm, 2.7 M nodes on the 10 mm bar): beyond this benchmark's budget.
 
+**3D static** (the force across the mid-section of a 10 x 5 x 5 mm bar under the affine
+uniaxial-stress field, against sigma A; `bar3d_section_error` of tests/unit/solver/
+test_accuracy.cpp, no time stepping, so it is not a pd-solve run of this script: `test_solver
+--gtest_also_run_disabled_tests --gtest_filter=Accuracy.DISABLED_BarSection3DLevels` prints
+these rows; CI checks the first two levels of each law). With the surface correction (m = 3),
+process CPU s in brackets: PMB +1.247 / +0.586 / +0.181 % at h = 0.5 / 0.25 / 0.125 mm (0.15 /
+1.2 / 11.6 s), LPS (nu = 1/4) +2.382 / +1.179 / +0.589 / +0.296 % at h = 0.5 / 0.25 / 0.125 /
+0.0625 mm (0.19 / 1.5 / 15.7 / 202 s; 1.06 M nodes, 14.7 GB at the finest): monotone, first
+order, the finest within 0.5 %.
+Without the correction PMB -16.25 / -8.44 % at 0.5 / 0.25 mm (Accuracy.BarSectionForce3D).
+
 **m-convergence with the correction** (`plate_m`): the plate at a fixed delta = 0.8 mm is +0.72 /
 +0.82 / +0.80 / +0.78 % at m = 2 / 3 / 4 / 6 (without the correction +7.92 / +6.73 / +6.39 /
 +6.08 %: the nonlocal answer's surface layer, which does not shrink with m at a fixed delta, is
