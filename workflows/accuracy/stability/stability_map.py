@@ -270,8 +270,9 @@ def details(data):
                 continue
             why = ",".join(row.get("failed", []))
             if row.get("stop"):
+                stop = re.sub(r"\S*/([^/\s]+\.h5):", r"\1:", row["stop"])  # no machine paths
                 why = (why + "; " if why else "") + re.sub(
-                    r"^.*?: (.*?) at step.*$", r"\1", row["stop"])[:60]
+                    r"^.*?: (.*?) at step.*$", r"\1", stop)[:60]
             lines.append("| %s | %s | %.4g | %d | %s | %s (%s) | %.1f | %s |" % (
                 name, k, row.get("dt", float("nan")), row["exit"],
                 "%.3f" % (100 * row["drift"]) if "drift" in row else "-",
