@@ -53,62 +53,92 @@ struct Lps {
 };
 
 // ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
-// dilatation, q and P ----
+// dilatation, q and P; on observation steps the energy of the rows that stay whole ----
+
+/// Pass 1's lanes: CheckedLanes (S: the dilatation sum) and, with energies, E = sum w e^2 and
+/// M = sum w xi^2 (w = omega beta V_j), from which the row's deviatoric sum follows without a
+/// second length per bond (pass1_energy).
+template <class V>
+struct Lanes1 : CheckedLanes<V> {
+    Lanes1(const double* x_i, double op_, double ol_)
+        : CheckedLanes<V>(x_i, op_, ol_)
+        , E(zero<V>())
+        , M(zero<V>()) {}
+    V E, M;
+};
 
 /// Bonds k, k+1 of pass 1: u, v for pass 2 (no sqrt, division nor e there), theta's sum.
-template <bool Comp, class V>
-PD_INLINE void pass1_pair(CheckedLanes<V>& L, const Arrays& v, const Lps& w, offset_t k) {
+template <bool Comp, bool Energy, class V>
+PD_INLINE void pass1_pair(Lanes1<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     V d[3];
     gather2(v.x, v.nb[k], v.nb[k + 1], L.X, d);
     const V l = length(d);
     const V inv = div(splat(1.0, V{}), l);
     const V x0 = load2(v.xi + k, V{}), wk = load2(v.wv + k, V{});
-    const V wx = mul(wk, x0), e = sub(l, x0);
-    store2(w.bu + k, mul(mul(wk, e), inv));
+    const V wx = mul(wk, x0), e = sub(l, x0), we = mul(wk, e);
+    store2(w.bu + k, mul(we, inv));
     store2(w.bv + k, mul(wx, inv));
     L.S = add(L.S, mul(wx, e));
+    if constexpr (Energy) {
+        L.E = add(L.E, mul(we, e));
+        L.M = add(L.M, mul(wx, x0));
+    }
     L.B = flag(L.B, l, mul(x0, L.OP));
     if constexpr (Comp)
         L.B = flag(L.B, mul(x0, L.OL), l); // l < xi (1 - s0)
     L.bad |= not_intact<2>(v.alive + k);
 }
 
+/// What pass 1 sums over a row: the dilatation th; with energies (rows that stay whole) e2 =
+/// sum w e^2 and m2 = sum w xi^2.
+struct Row1 {
+    double th = 0, e2 = 0, m2 = 0;
+};
+
 /// The rest of pass 1 from bond k on (pairs, the odd last bond in lane 0); false when a bond is
-/// broken or breaking (the caller takes the general path), else th = the dilatation sum.
-template <bool Comp, class V>
-PD_INLINE bool pass1_rest(CheckedLanes<V>& L, const Arrays& v, const Lps& w, std::int64_t i,
-                          offset_t k, offset_t k1, double& th) {
+/// broken or breaking (the caller takes the general path), else r's sums.
+template <bool Comp, bool Energy, class V>
+PD_INLINE bool pass1_rest(Lanes1<V>& L, const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
+                          offset_t k1, Row1& r) {
     for (; k + 1 < k1; k += 2)
-        pass1_pair<Comp>(L, v, w, k);
-    double th0 = lane0(L.S);
+        pass1_pair<Comp, Energy>(L, v, w, k);
+    double th0 = lane0(L.S), e0 = lane0(L.E), m0 = lane0(L.M);
     if (k < k1) {
         double d[3];
         const double l = bond_d(v.x, i, v.nb[k], d);
-        const double inv = 1.0 / l, wx = v.wv[k] * v.xi[k], e = l - v.xi[k];
-        w.bu[k] = v.wv[k] * e * inv;
+        const double inv = 1.0 / l, wx = v.wv[k] * v.xi[k], e = l - v.xi[k], we = v.wv[k] * e;
+        w.bu[k] = we * inv;
         w.bv[k] = wx * inv;
         th0 += wx * e;
+        if constexpr (Energy) {
+            e0 += we * e;
+            m0 += wx * v.xi[k];
+        }
         L.bad |= static_cast<int>(l > v.xi[k] * L.op) | static_cast<int>(v.alive[k] != 1);
         if constexpr (Comp)
             L.bad |= static_cast<int>(l < v.xi[k] * L.ol);
     }
-    th = th0 + lane1(L.S);
+    r.th = th0 + lane1(L.S);
+    if constexpr (Energy) {
+        r.e2 = e0 + lane1(L.E);
+        r.m2 = m0 + lane1(L.M);
+    }
     return !(L.bad | any(L.B));
 }
 
-template <bool Comp, class V>
+template <bool Comp, bool Energy, class V>
 PD_INLINE bool pass1_hot(const Arrays& v, const Lps& w, std::int64_t i, double op, double ol,
-                         offset_t k0, offset_t k1, double& th) {
-    CheckedLanes<V> L(v.x + 3 * i, op, ol);
-    return pass1_rest<Comp>(L, v, w, i, k0, k1, th);
+                         offset_t k0, offset_t k1, Row1& r) {
+    Lanes1<V> L(v.x + 3 * i, op, ol);
+    return pass1_rest<Comp, Energy>(L, v, w, i, k0, k1, r);
 }
 
 #if defined(PD_KERNELS_AVX2)
 /// pass1_hot with four bonds per step in front (AVX2).
-template <bool Comp>
+template <bool Comp, bool Energy>
 PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, double op,
-                                      double ol, offset_t k, offset_t k1, double& th) {
-    CheckedLanes<__m128d> L(v.x + 3 * i, op, ol);
+                                      double ol, offset_t k, offset_t k1, Row1& r) {
+    Lanes1<__m128d> L(v.x + 3 * i, op, ol);
     const Wide W(v.x + 3 * i);
     const __m256d OP = _mm256_set1_pd(op), OL = _mm256_set1_pd(ol), ONE = _mm256_set1_pd(1.0);
     __m256d B = _mm256_setzero_pd();
@@ -119,26 +149,31 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
         const __m256d inv = _mm256_div_pd(ONE, l);
         const __m256d x0 = _mm256_loadu_pd(v.xi + k), wk = _mm256_loadu_pd(v.wv + k);
         const __m256d wx = _mm256_mul_pd(wk, x0), e = _mm256_sub_pd(l, x0);
-        _mm256_storeu_pd(w.bu + k, _mm256_mul_pd(_mm256_mul_pd(wk, e), inv));
+        const __m256d we = _mm256_mul_pd(wk, e);
+        _mm256_storeu_pd(w.bu + k, _mm256_mul_pd(we, inv));
         _mm256_storeu_pd(w.bv + k, _mm256_mul_pd(wx, inv));
         L.S = fold(L.S, _mm256_mul_pd(wx, e));
+        if constexpr (Energy) {
+            L.E = fold(L.E, _mm256_mul_pd(we, e));
+            L.M = fold(L.M, _mm256_mul_pd(wx, x0));
+        }
         B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OP), _CMP_GT_OQ));
         if constexpr (Comp)
             B = _mm256_or_pd(B, _mm256_cmp_pd(l, _mm256_mul_pd(x0, OL), _CMP_LT_OQ));
         L.bad |= not_intact<4>(v.alive + k);
     }
     L.bad |= _mm256_movemask_pd(B);
-    return pass1_rest<Comp>(L, v, w, i, k, k1, th);
+    return pass1_rest<Comp, Energy>(L, v, w, i, k, k1, r);
 }
 #endif
 
 /// Pass 1 of a row with broken or breaking bonds: breaks them (alive = 2: broken in this call),
-/// th = the dilatation sum and mi = the weighted volume of the intact bonds. lo = 1 - s0 of the
-/// row's body when Comp (bonds shorter than xi lo break too).
+/// r's sums and mi = the weighted volume of the intact bonds. lo = 1 - s0 of the row's body when
+/// Comp (bonds shorter than xi lo break too).
 template <bool Breakable, bool Comp>
 [[gnu::noinline]] void pass1_general(const Arrays& v, std::int64_t a, std::int64_t i, double lo,
-                                     double& th, double& mi, bool& damaged, std::int64_t& broken) {
-    th = 0;
+                                     Row1& r, double& mi, bool& damaged, std::int64_t& broken) {
+    r = Row1{};
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
         if (!v.alive[k]) {
             damaged = true;
@@ -154,7 +189,10 @@ template <bool Breakable, bool Comp>
             continue;
         }
         mi += v.om[k] * v.xi[k] * v.xi[k] * v.beta[k] * v.vol[j];
-        th += v.wv[k] * v.xi[k] * (l - v.xi[k]);
+        const double e = l - v.xi[k], wx = v.wv[k] * v.xi[k];
+        r.th += wx * e;
+        r.e2 += v.wv[k] * e * e;
+        r.m2 += wx * v.xi[k];
     }
 }
 
@@ -169,29 +207,42 @@ PD_INLINE bool pass1_owns(const Arrays& v, const Lps& w, const State& s, const B
     return false;
 }
 
-/// theta_i, q_i and P_i from the row's sums (in registers, stored once).
-PD_INLINE void pass1_finish(const Lps& w, std::int64_t i, double th, double mi, bool damaged) {
-    const double theta = w.dd * th / w.mw[i];
+/// theta_i, q_i and P_i from the row's sums (in registers, stored once). With energies, a row
+/// that stays whole adds its W_i V_i here (pass 2 then takes the hot path for it and skips the
+/// energy: a whole row is exactly a row pass 2's hot loop accepts, every bond alive == 1).
+/// Its deviatoric sum sum w (e - theta xi / d)^2 expanded: e2 - theta/d (2 th - theta/d m2).
+/// The expansion rounds relative to e2, the scale of the dilatation energy k/2 theta^2 next to
+/// it (about 1e-16 of W_i), not to the deviatoric sum itself.
+template <bool Energy>
+PD_INLINE void pass1_finish(const Lps& w, const BodyLaw& law, std::size_t body, std::int64_t i,
+                            const Row1& r, double mi, bool damaged, const double* vol,
+                            double& energy) {
+    const double theta = w.dd * r.th / w.mw[i];
     const double td = w.by_d(theta);
     const double q = damaged ? td * (1.0 - mi / w.mw[i]) : 0.0;
     w.theta[i] = theta;
     w.q[i] = q;
     w.ap[2 * i + 1] = w.kt[i] * theta - w.A(i) * (td + q);
+    if (Energy && !damaged) {
+        const double wdev = r.e2 - td * (2.0 * r.th - td * r.m2);
+        energy += (0.5 * law.kappa[body] * theta * theta + 0.5 * w.A(i) * wdev) * vol[i];
+    }
 }
 
 /// Pass 1 of row a with the hot loop `hot` (a macro: see PD_PMB_ROW in bond_forces.cpp).
 #define PD_PASS1_ROW(hot)                                                                          \
-    [&](std::int64_t a, double&, double&, double&, std::int64_t& broken) PD_ROW_ATTR {             \
+    [&](std::int64_t a, double& energy, double&, double&, std::int64_t& broken) PD_ROW_ATTR {      \
         std::int64_t i;                                                                            \
         std::size_t body;                                                                          \
         if (!pass1_owns(v, w, s, law, a, i, body))                                                 \
             return;                                                                                \
-        double th = 0, mi = 0;                                                                     \
+        Row1 r;                                                                                    \
+        double mi = 0;                                                                             \
         bool damaged = false;                           /* breaks beyond xi (1 + s0), as b.lc */   \
         const double lo = Comp ? law.s0_lo[body] : 0.0; /* Comp: below xi (1 - s0) */              \
-        if (!hot(v, w, i, 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], th))                     \
-            pass1_general<Breakable, Comp>(v, a, i, lo, th, mi, damaged, broken);                  \
-        pass1_finish(w, i, th, mi, damaged);                                                       \
+        if (!hot(v, w, i, 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], r))                      \
+            pass1_general<Breakable, Comp>(v, a, i, lo, r, mi, damaged, broken);                   \
+        pass1_finish<Energy>(w, law, body, i, r, mi, damaged, v.vol, energy);                      \
     }
 
 // ---- Pass 2: forces from both ends of every intact bond; the energy bonds broken in pass 1 held
@@ -220,22 +271,20 @@ PD_AVX2 PD_INLINE void gather4_ap(const double* ap, const index_t* nb, __m256d& 
 }
 #endif
 
-/// Pass 2's lanes of a row: the force, the deviatoric energy sum, A_i, P_i, theta_i / d.
+/// Pass 2's lanes of a row: the force, A_i, P_i.
 template <class V>
 struct Lanes2 : Lanes<V> {
-    Lanes2(const double* x_i, double a_i, double p_i, double t_i)
+    Lanes2(const double* x_i, double a_i, double p_i)
         : Lanes<V>(x_i)
         , AI(splat(a_i, V{}))
-        , PI(splat(p_i, V{}))
-        , TI(splat(t_i, V{}))
-        , W(zero<V>()) {}
-    V AI, PI, TI, W;
+        , PI(splat(p_i, V{})) {}
+    V AI, PI;
     int bad = 0;
 };
 
-/// Bonds k, k+1 of pass 2: omega t / l = (A_i + A_j) u + (P_i + P_j) v, and with energies e
-/// again, bitwise as in pass 1 (observation steps only).
-template <bool Energy, class V>
+/// Bonds k, k+1 of pass 2: omega t / l = (A_i + A_j) u + (P_i + P_j) v (no length: the
+/// energies of whole rows come from pass 1).
+template <class V>
 PD_INLINE void pass2_pair(Lanes2<V>& L, const Arrays& v, const Lps& w, offset_t k) {
     const index_t ja = v.nb[k], jb = v.nb[k + 1];
     V d[3];
@@ -245,54 +294,42 @@ PD_INLINE void pass2_pair(Lanes2<V>& L, const Arrays& v, const Lps& w, offset_t 
     const V ab =
         add(mul(add(L.AI, aj), load2(w.bu + k, V{})), mul(add(L.PI, pj), load2(w.bv + k, V{})));
     L.add_force(ab, d);
-    if constexpr (Energy) {
-        const V x0 = load2(v.xi + k, V{});
-        const V ed = sub(sub(length(d), x0), mul(L.TI, x0));
-        L.W = add(L.W, mul(mul(load2(v.wv + k, V{}), ed), ed));
-    }
     L.bad |= not_intact<2>(v.alive + k);
 }
 
-/// The rest of pass 2 from bond k on; false when a bond is not intact (general path), else
-/// f_i and wdev (energies only) from the lanes.
-template <bool Energy, class V>
+/// The rest of pass 2 from bond k on; false when a bond is not intact (general path), else f_i
+/// from the lanes.
+template <class V>
 PD_INLINE bool pass2_rest(Lanes2<V>& L, const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
-                          offset_t k1, double* fi, double& wdev) {
+                          offset_t k1, double* fi) {
     for (; k + 1 < k1; k += 2)
-        pass2_pair<Energy>(L, v, w, k);
-    double w0 = lane0(L.W);
+        pass2_pair(L, v, w, k);
     if (k < k1) {
         const index_t j = v.nb[k];
         double d[3];
-        const double l = bond_d(v.x, i, j, d);
+        bond_d(v.x, i, j, d);
         L.add_force0((lane0(L.AI) + w.A(j)) * w.bu[k] + (lane0(L.PI) + w.P(j)) * w.bv[k], d);
-        if constexpr (Energy) {
-            const double ed = l - v.xi[k] - lane0(L.TI) * v.xi[k];
-            w0 += v.wv[k] * ed * ed;
-        }
         L.bad |= static_cast<int>(v.alive[k] != 1);
     }
     L.sum(fi);
-    wdev = w0 + lane1(L.W);
     return !L.bad;
 }
 
-template <bool Energy, class V>
+template <class V>
 PD_INLINE bool pass2_hot(const Arrays& v, const Lps& w, std::int64_t i, offset_t k0, offset_t k1,
-                         double* fi, double& wdev) {
-    Lanes2<V> L(v.x + 3 * i, w.A(i), w.P(i), w.by_d(w.theta[i]));
-    return pass2_rest<Energy>(L, v, w, i, k0, k1, fi, wdev);
+                         double* fi) {
+    Lanes2<V> L(v.x + 3 * i, w.A(i), w.P(i));
+    return pass2_rest(L, v, w, i, k0, k1, fi);
 }
 
 #if defined(PD_KERNELS_AVX2)
 /// pass2_hot with four bonds per step in front (AVX2).
-template <bool Energy>
 PD_AVX2 PD_INLINE bool pass2_hot_avx2(const Arrays& v, const Lps& w, std::int64_t i, offset_t k,
-                                      offset_t k1, double* fi, double& wdev) {
-    const double a_i = w.A(i), p_i = w.P(i), t_i = w.by_d(w.theta[i]);
-    Lanes2<__m128d> L(v.x + 3 * i, a_i, p_i, t_i);
+                                      offset_t k1, double* fi) {
+    const double a_i = w.A(i), p_i = w.P(i);
+    Lanes2<__m128d> L(v.x + 3 * i, a_i, p_i);
     const Wide W(v.x + 3 * i);
-    const __m256d AI = _mm256_set1_pd(a_i), PI = _mm256_set1_pd(p_i), TI = _mm256_set1_pd(t_i);
+    const __m256d AI = _mm256_set1_pd(a_i), PI = _mm256_set1_pd(p_i);
     for (; k + 3 < k1; k += 4) {
         __m256d d[3];
         gather4(v.x, v.nb + k, W.X, d);
@@ -302,14 +339,9 @@ PD_AVX2 PD_INLINE bool pass2_hot_avx2(const Arrays& v, const Lps& w, std::int64_
             _mm256_add_pd(_mm256_mul_pd(_mm256_add_pd(AI, aj), _mm256_loadu_pd(w.bu + k)),
                           _mm256_mul_pd(_mm256_add_pd(PI, pj), _mm256_loadu_pd(w.bv + k)));
         W.add_force(L, ab, d);
-        if constexpr (Energy) {
-            const __m256d x0 = _mm256_loadu_pd(v.xi + k);
-            const __m256d ed = _mm256_sub_pd(_mm256_sub_pd(length4(d), x0), _mm256_mul_pd(TI, x0));
-            L.W = fold(L.W, _mm256_mul_pd(_mm256_mul_pd(_mm256_loadu_pd(v.wv + k), ed), ed));
-        }
         L.bad |= not_intact<4>(v.alive + k);
     }
-    return pass2_rest<Energy>(L, v, w, i, k, k1, fi, wdev);
+    return pass2_rest(L, v, w, i, k, k1, fi);
 }
 #endif
 
@@ -414,21 +446,22 @@ PD_INLINE bool pass2_owns(const Arrays& v, const State& s, const BodyLaw& law, s
     return true;
 }
 
-/// Stores f_i; the row's energies on observation steps or when bonds broke.
+/// Stores f_i; the energies of a row of the general path on observation steps or when bonds
+/// broke (a row of the hot path is whole: pass 1 added its energy).
 template <bool Breakable, bool Energy>
 PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, std::size_t body,
-                            std::int64_t a, std::int64_t i, const double* fi, const Row2& r,
+                            std::int64_t a, std::int64_t i, const double* fi, const Row2* r,
                             double& energy, double& released, double& repulsion) {
     v.f[3 * i] = fi[0];
     v.f[3 * i + 1] = fi[1];
     v.f[3 * i + 2] = fi[2];
-    if (!Energy && !r.fresh)
+    if (!r || (!Energy && !r->fresh))
         return;
-    const double w_after = 0.5 * law.kappa[body] * w.theta[i] * w.theta[i] + 0.5 * w.A(i) * r.wdev;
+    const double w_after = 0.5 * law.kappa[body] * w.theta[i] * w.theta[i] + 0.5 * w.A(i) * r->wdev;
     energy += w_after * v.vol[i];
-    repulsion += 0.25 * r.e_rep * v.vol[i]; // each pair from both ends
-    if (Breakable && r.fresh)
-        released += lps_released(v, w, law, body, a, i, r.th_new, w_after);
+    repulsion += 0.25 * r->e_rep * v.vol[i]; // each pair from both ends
+    if (Breakable && r->fresh)
+        released += lps_released(v, w, law, body, a, i, r->th_new, w_after);
 }
 
 /// Pass 2 of row a with the hot loop `hot`.
@@ -441,10 +474,11 @@ PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, s
                 return;                                                                            \
             double fi[3];                                                                          \
             Row2 r;                                                                                \
-            if (!hot(v, w, i, v.off[a], v.off[a + 1], fi, r.wdev))                                 \
+            const bool whole = hot(v, w, i, v.off[a], v.off[a + 1], fi);                           \
+            if (!whole)                                                                            \
                 pass2_general(v, w, law, body, a, i, fi, r);                                       \
-            pass2_finish<Breakable, Energy>(v, w, law, body, a, i, fi, r, energy, released,        \
-                                            repulsion);                                            \
+            pass2_finish<Breakable, Energy>(v, w, law, body, a, i, fi, whole ? nullptr : &r,       \
+                                            energy, released, repulsion);                          \
         }
 
 /// Both passes over all rows with two lanes V (portable or SSE2); `between` in between.
@@ -452,11 +486,12 @@ PD_INLINE void pass2_finish(const Arrays& v, const Lps& w, const BodyLaw& law, s
 template <bool Breakable, bool Energy, bool Comp, class V>
 Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
               const std::function<void()>& between) {
-    const std::int64_t broken = over_rows(v.n, PD_PASS1_ROW((pass1_hot<Comp, V>))).broken;
+    const Sums r1 = over_rows(v.n, PD_PASS1_ROW((pass1_hot<Comp, Energy, V>)));
     if (between)
         between(); // ghosts' dilatation and q
-    Sums r = over_rows(v.n, PD_PASS2_ROW((pass2_hot<Energy, V>)));
-    r.broken = broken;
+    Sums r = over_rows(v.n, PD_PASS2_ROW((pass2_hot<V>)));
+    r.broken = r1.broken;
+    r.energy += r1.energy;
     return r;
 }
 #undef PD_ROW_ATTR
@@ -466,11 +501,12 @@ Sums lps_rows(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
 template <bool Breakable, bool Energy, bool Comp>
 PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const BodyLaw& law,
                            const std::function<void()>& between) {
-    const std::int64_t broken = over_rows_avx2(v.n, PD_PASS1_ROW(pass1_hot_avx2<Comp>)).broken;
+    const Sums r1 = over_rows_avx2(v.n, PD_PASS1_ROW((pass1_hot_avx2<Comp, Energy>)));
     if (between)
         between();
-    Sums r = over_rows_avx2(v.n, PD_PASS2_ROW(pass2_hot_avx2<Energy>));
-    r.broken = broken;
+    Sums r = over_rows_avx2(v.n, PD_PASS2_ROW(pass2_hot_avx2));
+    r.broken = r1.broken;
+    r.energy += r1.energy;
     return r;
 }
 #undef PD_ROW_ATTR
