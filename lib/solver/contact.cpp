@@ -120,76 +120,85 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
     double e = 0;
     std::vector<BodyPairForce> records;
     inside_ = {};
-#pragma omp parallel reduction(+ : touching, e, inside) if (n > parallel_min)
-    {
-        std::vector<BodyPairForce> mine;
-        std::int64_t first_node = -1;
-        std::int32_t first_body = -1;
-#pragma omp for schedule(static) nowait
-        for (std::int64_t a = 0; a < n; ++a) {
-            const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
-            const double* xi = &s.x[3 * i];
-            double fi[3] = {0, 0, 0};
-            const auto ii = static_cast<std::size_t>(i);
-            for (auto k = offsets_[ii]; k < offsets_[ii + 1]; ++k) {
-                const index_t j = neighbor_[static_cast<std::size_t>(k)];
-                const auto& law =
-                    laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
-                const double d0 = s.x[3 * j] - xi[0], d1 = s.x[3 * j + 1] - xi[1],
-                             d2 = s.x[3 * j + 2] - xi[2];
-                const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
-                if (r2 >= law.radius * law.radius)
-                    continue;
-                const double r = std::sqrt(r2);
-                if (!deep_.empty() && deep_[static_cast<std::size_t>(j)] &&
-                    r < rho_[static_cast<std::size_t>(s.body[static_cast<std::size_t>(j)])]) {
-                    ++inside; // i is more than R_c + h/2 inside j's grain
-                    if (first_node < 0) {
-                        first_node = i;
-                        first_body = s.body[static_cast<std::size_t>(j)];
-                    }
-                }
-                const double fn = law.stiffness * (law.radius - r) * s.vol[j]; // density, > 0
-                const double a = -fn / r; // along d: pushes i away from j
-                fi[0] += a * d0;
-                fi[1] += a * d1;
-                fi[2] += a * d2;
-                e += 0.25 * law.stiffness * (law.radius - r) * (law.radius - r) * s.vol[ii] *
-                     s.vol[j];
-                if (i < j)
-                    ++touching; // each pair once, from the row of its smaller node
-                // A record per touching pair, once on every rank that owns one of its nodes:
-                // from the row of the smaller node, or of the larger one if the smaller is a
-                // ghost. Stored as (smaller, larger), the force computed symmetrically, so the
-                // records do not depend on which side computed them.
-                if (normal && (law.restitution < 1 || law.friction > 0) &&
-                    (i < j || !owned_[static_cast<std::size_t>(j)])) {
-                    const double d[3] = {d0, d1, d2};
-                    mine.push_back(pair_record(s, law, i, j, r, d));
-                }
-            }
-            s.f[3 * i] += fi[0];
-            s.f[3 * i + 1] += fi[1];
-            s.f[3 * i + 2] += fi[2];
-        }
-        if (first_node >= 0) {
-#pragma omp critical(pd_contact_inside)
-            if (inside_.node < 0 || first_node < inside_.node) {
-                inside_.node = first_node;
-                inside_.body = s.body[static_cast<std::size_t>(first_node)];
-                inside_.inside = first_body;
-            }
-        }
-        if (normal) {
-#pragma omp critical(pd_contact_records)
-            records.insert(records.end(), mine.begin(), mine.end());
-        }
+    if (threaded(n)) { // (no one-thread region on every step: see threaded())
+#pragma omp parallel reduction(+ : touching, e, inside)
+        add_rows(s, normal, records, touching, e, inside);
+    } else {
+        add_rows(s, normal, records, touching, e, inside);
     }
     energy = e;
     inside_.count = inside;
     if (normal)
         *normal = sorted(std::move(records));
     return touching;
+}
+
+// The rows on the calling thread or, inside add_forces_impl's region, this thread's share of
+// them (an orphaned `omp for`: outside a region a plain loop); the sums are the thread's own.
+void ContactList::add_rows(State& s, std::vector<BodyPairForce>* normal,
+                           std::vector<BodyPairForce>& records, std::int64_t& touching, double& e,
+                           std::int64_t& inside) const {
+    const auto n = static_cast<std::int64_t>(s.rows.size());
+    std::vector<BodyPairForce> mine;
+    std::int64_t first_node = -1;
+    std::int32_t first_body = -1;
+#pragma omp for schedule(static) nowait
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = s.rows[static_cast<std::size_t>(a)];
+        const double* xi = &s.x[3 * i];
+        double fi[3] = {0, 0, 0};
+        const auto ii = static_cast<std::size_t>(i);
+        for (auto k = offsets_[ii]; k < offsets_[ii + 1]; ++k) {
+            const index_t j = neighbor_[static_cast<std::size_t>(k)];
+            const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
+            const double d0 = s.x[3 * j] - xi[0], d1 = s.x[3 * j + 1] - xi[1],
+                         d2 = s.x[3 * j + 2] - xi[2];
+            const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
+            if (r2 >= law.radius * law.radius)
+                continue;
+            const double r = std::sqrt(r2);
+            if (!deep_.empty() && deep_[static_cast<std::size_t>(j)] &&
+                r < rho_[static_cast<std::size_t>(s.body[static_cast<std::size_t>(j)])]) {
+                ++inside; // i is more than R_c + h/2 inside j's grain
+                if (first_node < 0) {
+                    first_node = i;
+                    first_body = s.body[static_cast<std::size_t>(j)];
+                }
+            }
+            const double fn = law.stiffness * (law.radius - r) * s.vol[j]; // density, > 0
+            const double a = -fn / r; // along d: pushes i away from j
+            fi[0] += a * d0;
+            fi[1] += a * d1;
+            fi[2] += a * d2;
+            e += 0.25 * law.stiffness * (law.radius - r) * (law.radius - r) * s.vol[ii] * s.vol[j];
+            if (i < j)
+                ++touching; // each pair once, from the row of its smaller node
+            // A record per touching pair, once on every rank that owns one of its nodes:
+            // from the row of the smaller node, or of the larger one if the smaller is a
+            // ghost. Stored as (smaller, larger), the force computed symmetrically, so the
+            // records do not depend on which side computed them.
+            if (normal && (law.restitution < 1 || law.friction > 0) &&
+                (i < j || !owned_[static_cast<std::size_t>(j)])) {
+                const double d[3] = {d0, d1, d2};
+                mine.push_back(pair_record(s, law, i, j, r, d));
+            }
+        }
+        s.f[3 * i] += fi[0];
+        s.f[3 * i + 1] += fi[1];
+        s.f[3 * i + 2] += fi[2];
+    }
+    if (first_node >= 0) {
+#pragma omp critical(pd_contact_inside)
+        if (inside_.node < 0 || first_node < inside_.node) {
+            inside_.node = first_node;
+            inside_.body = s.body[static_cast<std::size_t>(first_node)];
+            inside_.inside = first_body;
+        }
+    }
+    if (normal) {
+#pragma omp critical(pd_contact_records)
+        records.insert(records.end(), mine.begin(), mine.end());
+    }
 }
 
 void ContactList::set_owned(const Domain& dom) {

@@ -89,6 +89,8 @@ class ContactList {
                     const std::vector<std::vector<std::int32_t>>& laws);
     std::int64_t add_forces_impl(State& s, double& energy,
                                  std::vector<BodyPairForce>* normal) const;
+    void add_rows(State& s, std::vector<BodyPairForce>* normal, std::vector<BodyPairForce>& records,
+                  std::int64_t& touching, double& e, std::int64_t& inside) const;
 
     bool active_ = false;
     double skin_ = 0;

@@ -234,70 +234,85 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     std::int64_t touching = 0, beyond = 0;
     double energy = 0;
     std::vector<BodyWallForce> records;
-#pragma omp parallel reduction(+ : touching, energy, beyond, fmp[:len]) if (nn > parallel_min)
-    {
-        std::vector<BodyWallForce> mine;
-        std::int64_t first = -1;
-        std::int32_t first_wall = -1;
-#pragma omp for schedule(static) nowait
-        for (std::int64_t a = 0; a < nn; ++a) {
-            const auto i = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(a)]);
-            const double* x = &s.x[3 * i];
-            const auto g =
-                static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
-            for (auto k = offsets_[static_cast<std::size_t>(a)];
-                 k < offsets_[static_cast<std::size_t>(a) + 1]; ++k) {
-                const auto w = static_cast<std::size_t>(wall_of_[static_cast<std::size_t>(k)]);
-                if (!present[w])
-                    continue;
-                const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
-                double n[3];
-                const double d = distance(walls_[w], pose[w], x, n);
-                if (d >= law.radius)
-                    continue;
-                if (d < -0.5 * m_.bodies.mesh_size[static_cast<std::size_t>(s.body[i])]) {
-                    ++beyond; // more than h/2 through the wall
-                    if (first < 0) {
-                        first = static_cast<std::int64_t>(i);
-                        first_wall = static_cast<std::int32_t>(w);
-                    }
-                }
-                const double fn = law.stiffness * (law.radius - d) * s.vol[i]; // density
-                double f[3] = {fn * n[0], fn * n[1], fn * n[2]};
-                if (normal && (law.restitution < 1 || law.friction > 0))
-                    mine.push_back({s.body[i],
-                                    static_cast<std::int32_t>(w),
-                                    static_cast<index_t>(i),
-                                    {f[0] * s.vol[i], f[1] * s.vol[i], f[2] * s.vol[i]},
-                                    law.friction,
-                                    law.restitution < 1});
-                for (int q = 0; q < 3; ++q)
-                    s.f[3 * i + q] += f[q];
-                const double F[3] = {-f[0] * s.vol[i], -f[1] * s.vol[i], -f[2] * s.vol[i]};
-                const auto& c = pose[w].centre;
-                const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
-                add_reaction(fmp + 6 * w, F, r);
-                energy +=
-                    0.5 * law.stiffness * (law.radius - d) * (law.radius - d) * s.vol[i] * s.vol[i];
-                ++touching;
-            }
-        }
-        if (normal) {
-#pragma omp critical(pd_wall_records)
-            records.insert(records.end(), mine.begin(), mine.end());
-        }
-        if (first >= 0) {
-#pragma omp critical(pd_wall_beyond)
-            if (load.beyond_node < 0 || first < load.beyond_node) {
-                load.beyond_node = first;
-                load.beyond_wall = first_wall;
-            }
-        }
+    if (threaded(nn)) { // (no one-thread region on every step: see threaded())
+#pragma omp parallel reduction(+ : touching, energy, beyond, fmp[:len])
+        add_nodes(s, {pose, present, load, normal, records}, touching, energy, beyond, fmp);
+    } else {
+        add_nodes(s, {pose, present, load, normal, records}, touching, energy, beyond, fmp);
     }
     load.touching = touching;
     load.energy = energy;
     load.beyond = beyond;
     finish(load, fm, records, normal);
+}
+
+// The candidate nodes on the calling thread or, inside add_forces' region, this thread's share
+// of them (an orphaned `omp for`); the sums and fm are the thread's own.
+void WallContact::add_nodes(State& s, const Step& st, std::int64_t& touching, double& energy,
+                            std::int64_t& beyond, double* fmp) const {
+    const std::size_t nw = walls_.size();
+    const auto nn = static_cast<std::int64_t>(nodes_.size());
+    const auto& pose = st.pose;
+    const auto& present = st.present;
+    const auto normal = st.normal;
+    auto& load = st.load;
+    std::vector<BodyWallForce> mine;
+    std::int64_t first = -1;
+    std::int32_t first_wall = -1;
+#pragma omp for schedule(static) nowait
+    for (std::int64_t a = 0; a < nn; ++a) {
+        const auto i = static_cast<std::size_t>(nodes_[static_cast<std::size_t>(a)]);
+        const double* x = &s.x[3 * i];
+        const auto g =
+            static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
+        for (auto k = offsets_[static_cast<std::size_t>(a)];
+             k < offsets_[static_cast<std::size_t>(a) + 1]; ++k) {
+            const auto w = static_cast<std::size_t>(wall_of_[static_cast<std::size_t>(k)]);
+            if (!present[w])
+                continue;
+            const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
+            double n[3];
+            const double d = distance(walls_[w], pose[w], x, n);
+            if (d >= law.radius)
+                continue;
+            if (d < -0.5 * m_.bodies.mesh_size[static_cast<std::size_t>(s.body[i])]) {
+                ++beyond; // more than h/2 through the wall
+                if (first < 0) {
+                    first = static_cast<std::int64_t>(i);
+                    first_wall = static_cast<std::int32_t>(w);
+                }
+            }
+            const double fn = law.stiffness * (law.radius - d) * s.vol[i]; // density
+            double f[3] = {fn * n[0], fn * n[1], fn * n[2]};
+            if (normal && (law.restitution < 1 || law.friction > 0))
+                mine.push_back({s.body[i],
+                                static_cast<std::int32_t>(w),
+                                static_cast<index_t>(i),
+                                {f[0] * s.vol[i], f[1] * s.vol[i], f[2] * s.vol[i]},
+                                law.friction,
+                                law.restitution < 1});
+            for (int q = 0; q < 3; ++q)
+                s.f[3 * i + q] += f[q];
+            const double F[3] = {-f[0] * s.vol[i], -f[1] * s.vol[i], -f[2] * s.vol[i]};
+            const auto& c = pose[w].centre;
+            const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+            add_reaction(fmp + 6 * w, F, r);
+            energy +=
+                0.5 * law.stiffness * (law.radius - d) * (law.radius - d) * s.vol[i] * s.vol[i];
+            ++touching;
+        }
+    }
+    if (normal) {
+#pragma omp critical(pd_wall_records)
+        st.records.insert(st.records.end(), mine.begin(), mine.end());
+    }
+    if (first >= 0) {
+#pragma omp critical(pd_wall_beyond)
+        if (load.beyond_node < 0 || first < load.beyond_node) {
+            load.beyond_node = first;
+            load.beyond_wall = first_wall;
+        }
+    }
 }
 
 } // namespace pd::solver

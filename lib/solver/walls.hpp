@@ -67,7 +67,17 @@ class WallContact {
     double max_radius() const { return rc_max_; }
 
   private:
+    /// What add_nodes reads and the records it fills (shared by the threads).
+    struct Step {
+        const std::vector<WallPose>& pose;
+        const std::vector<std::uint8_t>& present;
+        WallLoad& load;
+        std::vector<BodyWallForce>* normal;
+        std::vector<BodyWallForce>& records;
+    };
     void rebuild(const State& s);
+    void add_nodes(State& s, const Step& st, std::int64_t& touching, double& energy,
+                   std::int64_t& beyond, double* fmp) const;
     const model::Model& m_;
     std::vector<model::Wall> walls_;
     std::vector<std::int32_t> law_; ///< per (body group, wall): index into m_.contact or -1
