@@ -205,9 +205,10 @@ int main(int argc, char** argv) {
         const int n = quick ? std::max(10, steps / 10) : steps;
         for (int threads : {1, 2}) {
             set_threads(threads);
-            Warm w(m);
             std::vector<double> cpu, wl, other;
             for (int r = 0; r < runs; ++r) {
+                Warm w(m); // every run the same steps (continuing one solver, the later runs
+                           // were another phase of the motion: 3x between min and median)
                 const auto st = run_steps(w.s, n);
                 cpu.push_back(st.cpu);
                 wl.push_back(st.wall);
