@@ -357,9 +357,10 @@ void ContactList::store_rows(std::size_t n, const std::vector<std::vector<index_
     law_.clear();
     neighbor_.reserve(static_cast<std::size_t>(offsets_.back()));
     law_.reserve(static_cast<std::size_t>(offsets_.back()));
+    std::vector<std::size_t> idx;
     for (std::size_t i = 0; i < n; ++i) {
         // Sorted rows: the force sum order is independent of thread count and hash layout.
-        std::vector<std::size_t> idx(rows[i].size());
+        idx.resize(rows[i].size());
         for (std::size_t k = 0; k < idx.size(); ++k)
             idx[k] = k;
         std::sort(idx.begin(), idx.end(), [&](auto a, auto b) { return rows[i][a] < rows[i][b]; });
@@ -392,8 +393,16 @@ void ContactList::rebuild(const State& s) {
     grid.mark_quiet(s);
     const auto& keyed = grid.keyed;
     const int zr = grid.zr;
-    std::vector<std::vector<index_t>> rows(s.n);
-    std::vector<std::vector<std::int32_t>> laws(s.n);
+    // The rows of the last rebuild, emptied: their capacity stays (no allocation per row and
+    // rebuild once the rows have grown).
+    auto& rows = cand_rows_;
+    auto& laws = cand_laws_;
+    rows.resize(s.n);
+    laws.resize(s.n);
+    for (std::size_t i = 0; i < s.n; ++i) {
+        rows[i].clear();
+        laws[i].clear();
+    }
     const double r2max = reach * reach;
     const auto na = static_cast<std::int64_t>(keyed.size());
 #pragma omp parallel for schedule(dynamic, 256) if (na > parallel_min)

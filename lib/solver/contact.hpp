@@ -112,6 +112,9 @@ class ContactList {
     std::vector<double> rho_;        ///< per body: the guard distance min(R_c, h), m
     mutable Penetration inside_;
     std::int64_t rebuilds_ = 0;
+    // rebuild()'s candidate rows before store_rows, kept for their capacity.
+    std::vector<std::vector<index_t>> cand_rows_;
+    std::vector<std::vector<std::int32_t>> cand_laws_;
 };
 
 } // namespace pd::solver

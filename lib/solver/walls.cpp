@@ -170,6 +170,8 @@ namespace {
 /// Every wall's pose at time t, and whether it is there.
 void poses(const std::vector<model::Wall>& walls, double t, std::vector<WallPose>& pose,
            std::vector<std::uint8_t>& present) {
+    pose.clear();
+    present.clear();
     for (const auto& w : walls) {
         pose.push_back(wall_pose(w, t));
         present.push_back(model::wall_present(w, t) ? 1 : 0);
@@ -224,11 +226,12 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     clear(load, nw);
     if (!active_ || nodes_.empty())
         return;
-    std::vector<WallPose> pose;
-    std::vector<std::uint8_t> present;
+    auto& pose = pose_; // (members: nothing allocated per step)
+    auto& present = present_;
     poses(walls_, s.time, pose, present);
     const auto nn = static_cast<std::int64_t>(nodes_.size());
-    std::vector<double> fm(6 * nw, 0.0); // force then moment, per wall
+    auto& fm = fm_;
+    fm.assign(6 * nw, 0.0); // force then moment, per wall
     double* fmp = fm.data();
     const std::size_t len = fm.size();
     std::int64_t touching = 0, beyond = 0;

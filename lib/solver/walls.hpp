@@ -78,6 +78,10 @@ class WallContact {
     void rebuild(const State& s);
     void add_nodes(State& s, const Step& st, std::int64_t& touching, double& energy,
                    std::int64_t& beyond, double* fmp) const;
+    // add_forces' work arrays, kept between calls (their sizes do not change).
+    mutable std::vector<WallPose> pose_;
+    mutable std::vector<std::uint8_t> present_;
+    mutable std::vector<double> fm_;
     const model::Model& m_;
     std::vector<model::Wall> walls_;
     std::vector<std::int32_t> law_; ///< per (body group, wall): index into m_.contact or -1

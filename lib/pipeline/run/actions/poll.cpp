@@ -18,8 +18,10 @@ class Poll final : public Action {
     explicit Poll(const Run& r)
         : Action(Trigger().every(r.par ? stop_check_every : 1).before(r.steps.last)) {}
     void run(Run& r, std::int64_t n) override {
-        std::vector<int> flags{stop_signal()};
-        std::vector<Trigger*> walls;
+        auto& flags = flags_; // (kept: nothing allocated per step)
+        auto& walls = walls_;
+        flags.assign(1, stop_signal());
+        walls.clear();
         for (auto& a : r.schedule->actions()) {
             if (!a->trigger().agreed_wall())
                 continue;
@@ -40,6 +42,10 @@ class Poll final : public Action {
             if (a->trigger().stops())
                 a->trigger().request();
     }
+
+  private:
+    std::vector<int> flags_;
+    std::vector<Trigger*> walls_;
 };
 
 } // namespace
