@@ -57,7 +57,7 @@ struct Lps {
 
 /// Pass 1's lanes: CheckedLanes (S: the dilatation sum) and, with energies, E = sum w e^2 and
 /// M = sum w xi^2 (w = omega beta V_j), from which the row's deviatoric sum follows without a
-/// second length per bond (pass1_energy).
+/// second length per bond (pass1_finish).
 template <class V>
 struct Lanes1 : CheckedLanes<V> {
     Lanes1(const double* x_i, double op_, double ol_)
@@ -170,7 +170,7 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
 /// Pass 1 of a row with broken or breaking bonds: breaks them (alive = 2: broken in this call),
 /// r's sums and mi = the weighted volume of the intact bonds. lo = 1 - s0 of the row's body when
 /// Comp (bonds shorter than xi lo break too).
-template <bool Breakable, bool Comp>
+template <bool Breakable, bool Comp, bool Energy>
 [[gnu::noinline]] void pass1_general(const Arrays& v, std::int64_t a, std::int64_t i, double lo,
                                      Row1& r, double& mi, bool& damaged, std::int64_t& broken) {
     r = Row1{};
@@ -191,8 +191,10 @@ template <bool Breakable, bool Comp>
         mi += v.om[k] * v.xi[k] * v.xi[k] * v.beta[k] * v.vol[j];
         const double e = l - v.xi[k], wx = v.wv[k] * v.xi[k];
         r.th += wx * e;
-        r.e2 += v.wv[k] * e * e;
-        r.m2 += wx * v.xi[k];
+        if constexpr (Energy) {
+            r.e2 += v.wv[k] * e * e;
+            r.m2 += wx * v.xi[k];
+        }
     }
 }
 
@@ -241,7 +243,7 @@ PD_INLINE void pass1_finish(const Lps& w, const BodyLaw& law, std::size_t body, 
         bool damaged = false;                           /* breaks beyond xi (1 + s0), as b.lc */   \
         const double lo = Comp ? law.s0_lo[body] : 0.0; /* Comp: below xi (1 - s0) */              \
         if (!hot(v, w, i, 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], r))                      \
-            pass1_general<Breakable, Comp>(v, a, i, lo, r, mi, damaged, broken);                   \
+            pass1_general<Breakable, Comp, Energy>(v, a, i, lo, r, mi, damaged, broken);           \
         pass1_finish<Energy>(w, law, body, i, r, mi, damaged, v.vol, energy);                      \
     }
 
