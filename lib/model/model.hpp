@@ -91,14 +91,27 @@ struct Bonds {
     bool complete() const { return neighbor.size() == num(); }
 };
 
+/// The normal force law of a contact pair.
+/// - node: PeriDEM's node-to-node penalty (spec 4.3): f_i = Kn (R_c - r) V_j along the pair, for
+///   node pairs closer than R_c; `stiffness` Kn in N m-7, `radius` R_c.
+/// - surface: node-to-boundary penalty (solver/contact.hpp): a node inside the other body's
+///   deformed boundary (its mesh's boundary facets: segments in 2D, triangles in 3D) or inside a
+///   rigid wall gets the force density f_i = c (p - y_i), p the closest boundary point, and the
+///   facet's nodes the reaction by the closest point's barycentric weights; `stiffness` c in
+///   N m-5 (Pa m-2), `radius` the pair's mesh size h (a length scale: no force acts at a gap).
+enum class ContactLaw : std::uint8_t { node = 0, surface = 1 };
+
 /// One row of the contact table: the law between contact groups a and b (symmetric).
 struct ContactPair {
     std::int32_t group_a = 0;
     std::int32_t group_b = 0;
-    double radius = 0;      ///< R_c, m
-    double stiffness = 0;   ///< K_n, N m-7 (force density per overlap per volume)
+    double radius = 0;      ///< node law: R_c, m; surface law: the pair's mesh size h, m
+    double stiffness = 0;   ///< node law: K_n, N m-7; surface law: c, N m-5
     double restitution = 1; ///< eps in (0, 1]; 1 = no damping
     double friction = 0;    ///< Coulomb mu
+    ContactLaw law = ContactLaw::node;
+    /// The force acts from this distance on: R_c (node law), 0 (surface law: at contact).
+    double offset() const { return law == ContactLaw::surface ? 0.0 : radius; }
 };
 
 /// Time function T(t) of a boundary condition (spec 5.6-5.7; pdgrain takes the consistent

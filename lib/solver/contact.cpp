@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <unordered_map>
 
 namespace pd::solver {
@@ -24,8 +25,11 @@ ContactList::ContactList(const model::Model& m, double skin)
         laws_.push_back(p);
         law_of_[static_cast<std::size_t>(p.group_a * ngroups_ + p.group_b)] = k;
         law_of_[static_cast<std::size_t>(p.group_b * ngroups_ + p.group_a)] = k;
-        rc_max_ = std::max(rc_max_, p.radius);
+        if (p.law == model::ContactLaw::node)
+            rc_max_ = std::max(rc_max_, p.radius);
         any_friction_ = any_friction_ || p.friction > 0;
+        any_surface_ = any_surface_ || p.law == model::ContactLaw::surface;
+        any_node_ = any_node_ || p.law == model::ContactLaw::node;
     }
     active_ = m.bodies.num() > 1 && !laws_.empty();
     owned_.assign(m.nodes.num(), 1);
@@ -47,6 +51,8 @@ ContactList::ContactList(const model::Model& m, double skin)
     rho_.resize(m.bodies.num());
     for (std::size_t b = 0; b < rho_.size(); ++b)
         rho_[b] = std::min(rc_max_, m.bodies.mesh_size[b]);
+    if (active_ && any_surface_)
+        init_surface(m); // (raises rc_max_ to the surface law's search radius)
 }
 
 bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit) {
@@ -101,8 +107,12 @@ BodyPairForce pair_record(const State& s, const model::ContactPair& law, std::in
 
 /// The records in a deterministic order whatever the thread schedule, normalised to a < b.
 std::vector<BodyPairForce> sorted(std::vector<BodyPairForce> records) {
-    std::sort(records.begin(), records.end(),
-              [](const auto& p, const auto& q) { return p.i != q.i ? p.i < q.i : p.j < q.j; });
+    // (i, j), then the force: a pair can have two records under the surface law (each node
+    // inside the other's boundary), whose order must not depend on the threads or ranks.
+    std::sort(records.begin(), records.end(), [](const auto& p, const auto& q) {
+        return std::tie(p.i, p.j, p.force[0], p.force[1], p.force[2]) <
+               std::tie(q.i, q.j, q.force[0], q.force[1], q.force[2]);
+    });
     for (auto& r : records)
         if (r.a > r.b) { // normalise to a < b: force on the higher-numbered body
             std::swap(r.a, r.b);
@@ -120,7 +130,9 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
     double e = 0;
     std::vector<BodyPairForce> records;
     inside_ = {};
-    if (threaded(n)) { // (no one-thread region on every step: see threaded())
+    if (!any_node_) {
+        // surface law only: no node-pair forces
+    } else if (threaded(n)) { // (no one-thread region on every step: see threaded())
 #pragma omp parallel reduction(+ : touching, e, inside)
         add_rows(s, normal, records, touching, e, inside);
     } else {
@@ -128,6 +140,8 @@ std::int64_t ContactList::add_forces_impl(State& s, double& energy,
     }
     energy = e;
     inside_.count = inside;
+    if (any_surface_)
+        touching += add_surface(s, energy, normal ? &records : nullptr);
     if (normal)
         *normal = sorted(std::move(records));
     return touching;
@@ -151,6 +165,8 @@ void ContactList::add_rows(State& s, std::vector<BodyPairForce>* normal,
         for (auto k = offsets_[ii]; k < offsets_[ii + 1]; ++k) {
             const index_t j = neighbor_[static_cast<std::size_t>(k)];
             const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
+            if (law.law != model::ContactLaw::node)
+                continue; // (surface_contact.cpp)
             const double d0 = s.x[3 * j] - xi[0], d1 = s.x[3 * j + 1] - xi[1],
                          d2 = s.x[3 * j + 2] - xi[2];
             const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
@@ -207,12 +223,26 @@ void ContactList::set_owned(const Domain& dom) {
         owned_[static_cast<std::size_t>(i)] = 1;
 }
 
-bool ContactList::update(State& s, const Domain& dom) {
+bool ContactList::update(State& s, const Domain& dom, const BondData* b) {
     if (!active_)
         return false;
     // Collective: every rank rebuilds when any rank needs it.
     if (!dom.any(!built_ || moved_farther_than(s, x_build_, 0.5 * skin_)))
         return false;
+    if (any_surface_) {
+        // Which nodes keep half their bonds (irreversible between rebuilds: bonds only break).
+        whole_.assign(s.n, 1);
+        if (b && !b->alive.empty())
+            for (std::size_t a = 0; a < s.rows.size(); ++a) {
+                const auto n = b->offsets[a + 1] - b->offsets[a];
+                offset_t alive = 0;
+                for (auto k = b->offsets[a]; k < b->offsets[a + 1]; ++k)
+                    alive += b->alive[static_cast<std::size_t>(k)];
+                whole_[static_cast<std::size_t>(s.rows[a])] = 2 * alive >= n ? 1 : 0;
+            }
+        if (dom.distributed())
+            dom.allgather(whole_, 1);
+    }
     if (dom.distributed()) {
         dom.allgather(s.x, 3); // every node where its owner has it
     }
@@ -224,6 +254,20 @@ void ContactList::ghosts(std::vector<index_t>& out) const {
     for (auto j : neighbor_)
         if (!owned_[static_cast<std::size_t>(j)])
             out.push_back(j);
+    if (!any_surface_)
+        return;
+    // The surface law reads every vertex of the facets at the candidates.
+    const auto nv = static_cast<std::size_t>(facets_.nv);
+    for (auto j : neighbor_)
+        for (auto q = facets_.offsets[static_cast<std::size_t>(j)];
+             q < facets_.offsets[static_cast<std::size_t>(j) + 1]; ++q)
+            for (std::size_t a = 0; a < nv; ++a) {
+                const auto v = facets_.v[nv * static_cast<std::size_t>(
+                                                  facets_.of_node[static_cast<std::size_t>(q)]) +
+                                         a];
+                if (!owned_[static_cast<std::size_t>(v)])
+                    out.push_back(v);
+            }
 }
 
 namespace {
@@ -371,6 +415,27 @@ void ContactList::store_rows(std::size_t n, const std::vector<std::vector<index_
     }
 }
 
+// Under MPI the surface law also computes the rows of the ghost candidates of owned rows: a node
+// of another rank inside a body of this rank pushes this rank's facet nodes (every rank builds
+// such a row from the same positions, so alike).
+template <class Keyed, class RowOf>
+void ContactList::ghost_rows(const Keyed& keyed, const std::vector<std::vector<index_t>>& rows,
+                             const std::vector<std::vector<std::int32_t>>& laws,
+                             const RowOf& row_of) const {
+    std::vector<std::uint8_t> need(rows.size(), 0);
+    bool any = false;
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        if (owned_[i])
+            for (std::size_t k = 0; k < rows[i].size(); ++k)
+                if (!owned_[static_cast<std::size_t>(rows[i][k])] &&
+                    laws_[static_cast<std::size_t>(laws[i][k])].law == model::ContactLaw::surface)
+                    need[static_cast<std::size_t>(rows[i][k])] = any = true;
+    if (any)
+        for (std::size_t a = 0; a < keyed.size(); ++a)
+            if (need[static_cast<std::size_t>(keyed[a].second)])
+                row_of(a);
+}
+
 void ContactList::rebuild(const State& s) {
     ++rebuilds_;
     built_ = true;
@@ -405,14 +470,12 @@ void ContactList::rebuild(const State& s) {
     }
     const double r2max = reach * reach;
     const auto na = static_cast<std::int64_t>(keyed.size());
-#pragma omp parallel for schedule(dynamic, 256) if (na > parallel_min)
-    for (std::int64_t a = 0; a < na; ++a) {
-        const index_t i = keyed[static_cast<std::size_t>(a)].second;
-        if (!owned_[static_cast<std::size_t>(i)])
-            continue; // rows of owned nodes only; the cells hold every active node
+    // Node i's candidates: the nodes of other bodies within reach that i's body has a law with.
+    const auto row_of = [&](std::size_t a) {
+        const index_t i = keyed[a].second;
         const double* xi = &s.x[3 * i];
-        if (grid.cells.find(keyed[static_cast<std::size_t>(a)].first)->second.quiet)
-            continue;
+        if (grid.cells.find(keyed[a].first)->second.quiet)
+            return;
         const auto gi = body_group_[static_cast<std::size_t>(s.body[i])];
         for (int dx = -1; dx <= 1; ++dx)
             for (int dy = -1; dy <= 1; ++dy)
@@ -432,13 +495,21 @@ void ContactList::rebuild(const State& s) {
                         for (int d = 0; d < 3; ++d)
                             r2 += (s.x[3 * j + d] - xi[d]) * (s.x[3 * j + d] - xi[d]);
                         if (r2 < r2max) {
-                            rows[i].push_back(j);
-                            laws[i].push_back(law);
+                            rows[static_cast<std::size_t>(i)].push_back(j);
+                            laws[static_cast<std::size_t>(i)].push_back(law);
                         }
                     }
                 }
-    }
+    };
+#pragma omp parallel for schedule(dynamic, 256) if (na > parallel_min)
+    for (std::int64_t a = 0; a < na; ++a)
+        if (owned_[static_cast<std::size_t>(keyed[static_cast<std::size_t>(a)].second)])
+            row_of(static_cast<std::size_t>(a)); // rows of owned nodes; the cells hold all
+    if (any_surface_)
+        ghost_rows(keyed, rows, laws, row_of);
     store_rows(s.n, rows, laws);
+    if (any_surface_)
+        surface_rows(s);
 }
 
 std::int64_t ContactList::add_forces(State& s, double& energy,
@@ -450,7 +521,7 @@ std::int64_t ContactList::add_forces(State& s, double& energy,
 }
 
 double contact_max_stiffness(const model::ContactPair& p) {
-    return p.stiffness; // linear law: f = Kn (R_c - R) V_j
+    return p.stiffness; // node law: f = Kn (R_c - R) V_j; surface law: f = c (p - y_i)
 }
 
 } // namespace pd::solver

@@ -44,6 +44,24 @@ struct Penetration {
     std::int32_t inside = -1; ///< the grain it is inside
 };
 
+/// Boundary facets of the bodies that touch under the surface law (model::ContactLaw): the
+/// facets used by one cell of each body's mesh (segments in 2D; triangles in 3D, a quad face of a
+/// hexahedral grid cell as two), with global node ids, ordered so that the normal of the current
+/// positions, (b - a) rotated by -90 deg in 2D or (b - a) x (c - a) in 3D, points out of the body.
+struct Facets {
+    int nv = 2;                        ///< vertices per facet
+    std::vector<index_t> v;            ///< nv per facet
+    std::vector<std::int32_t> body;    ///< per facet
+    std::vector<double> edge2;         ///< per facet: its longest edge squared (reference), m2
+    std::vector<offset_t> offsets{0};  ///< CSR node -> incident facets (every node of the model)
+    std::vector<std::int32_t> of_node; ///< facet ids
+    double max_edge = 0;               ///< longest facet edge (reference), m
+    std::size_t num() const { return body.size(); }
+};
+/// The facets of the bodies `want` (1 per body) from their reference meshes; a wanted body whose
+/// mesh has no cells (or not its node count) is an InputError naming it.
+Facets boundary_facets(const model::Model& m, const std::vector<std::uint8_t>& want);
+
 /// Largest normal stiffness the law `p` reaches, N m-7: the derivative of the pair's force
 /// density with respect to the overlap, per unit volume of the partner node, over every overlap
 /// the law allows. The stability estimate (solver/stability.hpp) bounds contact with it, so a
@@ -63,7 +81,9 @@ class ContactList {
     void set_owned(const Domain& dom);
     /// Rebuilds the candidate list if any rank needs it (collective; gathers every position
     /// first under MPI); returns true if it did.
-    bool update(State& s, const Domain& dom);
+    /// `b`: this rank's bond rows (the surface law's facets act only between nodes that keep
+    /// half their bonds, refreshed at each rebuild); may be null (every node counts as whole).
+    bool update(State& s, const Domain& dom, const BondData* b = nullptr);
     /// The next update() rebuilds (after a change of ownership).
     void invalidate() { built_ = false; }
     /// Appends the candidates owned by other ranks (ghosts the contact forces read).
@@ -91,6 +111,24 @@ class ContactList {
                                  std::vector<BodyPairForce>* normal) const;
     void add_rows(State& s, std::vector<BodyPairForce>* normal, std::vector<BodyPairForce>& records,
                   std::int64_t& touching, double& e, std::int64_t& inside) const;
+    /// Surface law (surface_contact.cpp): the facets, which rows a rank computes, the forces.
+    void init_surface(const model::Model& m);
+    void surface_rows(const State& s);
+    std::int64_t add_surface(State& s, double& energy, std::vector<BodyPairForce>* normal) const;
+    bool torn(std::int32_t facet, const State& s) const;
+    struct Event;
+    struct Best;
+    struct Sums {
+        std::int64_t touching = 0, inside = 0, first_node = -1;
+        std::int32_t first_body = -1;
+        double energy = 0;
+    };
+    void surface_row(std::size_t i, const State& s, std::vector<Event>& out,
+                     std::vector<Best>& best) const;
+    void apply_events(State& s, Sums& sums, std::vector<BodyPairForce>* normal) const;
+    template <class Keyed, class RowOf>
+    void ghost_rows(const Keyed& keyed, const std::vector<std::vector<index_t>>& rows,
+                    const std::vector<std::vector<std::int32_t>>& laws, const RowOf& row_of) const;
 
     bool active_ = false;
     double skin_ = 0;
@@ -115,6 +153,23 @@ class ContactList {
     // rebuild()'s candidate rows before store_rows, kept for their capacity.
     std::vector<std::vector<index_t>> cand_rows_;
     std::vector<std::vector<std::int32_t>> cand_laws_;
+    // Surface law.
+    bool any_surface_ = false, any_node_ = false;
+    Facets facets_;
+    std::vector<double> h_body_;      ///< per body: mesh size h (the penetration guard's h / 2)
+    std::vector<std::uint8_t> whole_; ///< per node: keeps half its bonds (at the last rebuild)
+    /// Rows the surface law computes: owned rows, and under MPI the rows of ghost candidates of
+    /// owned rows (their events put reactions on owned facet nodes).
+    std::vector<index_t> srows_;
+    struct Event {
+        index_t i;          ///< the node inside
+        std::int32_t facet; ///< the facet it is pushed out of
+        double w[3];        ///< barycentric weights of the closest point
+        double force[3];    ///< on i, N
+        double energy;      ///< J
+        bool deep;          ///< more than h / 2 inside (the guard's failure)
+    };
+    mutable std::vector<Event> events_;
 };
 
 } // namespace pd::solver

@@ -335,6 +335,18 @@ double contact_lambda_bound(const model::Model& m, const State& s) {
         const bool wall = (walls[b] > 0 && moving[a] > 0) || (walls[a] > 0 && moving[b] > 0);
         if (!pair && !wall)
             continue;
+        if (p.law == model::ContactLaw::surface) {
+            // A node inside a boundary: c V_i on itself and on the facet's nodes (weights
+            // summing to 1), twice as a node is both inside one boundary and a facet node of
+            // another (Gershgorin: 2 x (c + c) / rho).
+            // Against a rigid wall only: c on the node itself; with the node's own bonds, 2 c
+            // (the smaller step of bonds and contact is taken, not their sum: see
+            // Solver::stable_dt).
+            const double rho = std::min(rho_min[a], rho_min[b]);
+            if (std::isfinite(rho))
+                lambda = std::max(lambda, (pair ? 4.0 : 2.0) * kn / rho);
+            continue;
+        }
         const double h = std::min(hmin[a], hmin[b]);
         const double v = std::max(vmax[a], vmax[b]);
         const double rho = std::min(rho_min[a], rho_min[b]);

@@ -276,7 +276,8 @@ void WallContact::add_nodes(State& s, const Step& st, std::int64_t& touching, do
             const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
             double n[3];
             const double d = distance(walls_[w], pose[w], x, n);
-            if (d >= law.radius)
+            const double r0 = law.offset(); // R_c (node law) or 0 (surface law)
+            if (d >= r0)
                 continue;
             if (d < -0.5 * m_.bodies.mesh_size[static_cast<std::size_t>(s.body[i])]) {
                 ++beyond; // more than h/2 through the wall
@@ -285,7 +286,10 @@ void WallContact::add_nodes(State& s, const Step& st, std::int64_t& touching, do
                     first_wall = static_cast<std::int32_t>(w);
                 }
             }
-            const double fn = law.stiffness * (law.radius - d) * s.vol[i]; // density
+            // density: node law Kn (R_c - d) V_i (a mirror node of the same volume); surface law
+            // c (0 - d), the node pushed back to the wall's surface
+            const bool surface = law.law == model::ContactLaw::surface;
+            const double fn = surface ? law.stiffness * (-d) : law.stiffness * (r0 - d) * s.vol[i];
             double f[3] = {fn * n[0], fn * n[1], fn * n[2]};
             if (normal && (law.restitution < 1 || law.friction > 0))
                 mine.push_back({s.body[i],
@@ -301,7 +305,7 @@ void WallContact::add_nodes(State& s, const Step& st, std::int64_t& touching, do
             const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
             add_reaction(fmp + 6 * w, F, r);
             energy +=
-                0.5 * law.stiffness * (law.radius - d) * (law.radius - d) * s.vol[i] * s.vol[i];
+                0.5 * law.stiffness * (r0 - d) * (r0 - d) * s.vol[i] * (surface ? 1 : s.vol[i]);
             ++touching;
         }
     }

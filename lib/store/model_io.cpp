@@ -114,7 +114,9 @@ void write_contact(h5::File& f, const model::Model& m) {
     const std::uint64_t np = m.contact.size();
     std::vector<std::int32_t> ga, gb;
     std::vector<double> rad, kn, eps, mu;
+    std::vector<std::uint8_t> law;
     for (const auto& p : m.contact) {
+        law.push_back(static_cast<std::uint8_t>(p.law));
         ga.push_back(p.group_a);
         gb.push_back(p.group_b);
         rad.push_back(p.radius);
@@ -129,6 +131,7 @@ void write_contact(h5::File& f, const model::Model& m) {
     put(f, c + "/stiffness", kn, {np}, "N m-7");
     put(f, c + "/restitution", eps, {np}, "1");
     put(f, c + "/friction", mu, {np}, "1");
+    put(f, c + "/law", law, {np}, "1");
 }
 
 /// Rigid walls (optional group).

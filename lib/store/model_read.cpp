@@ -197,6 +197,10 @@ void read_contact(const h5::File& f, model::Model& m) {
     auto kn = get<double>(f, c + "/stiffness", {np});
     auto eps = get<double>(f, c + "/restitution", {np});
     auto mu = get<double>(f, c + "/friction", {np});
+    // /contact/law (pd-file 1.5): absent in older files, whose laws are all node-to-node.
+    auto law = f.exists(c + "/law") ? get<std::uint8_t>(f, c + "/law", {np})
+                                    : std::vector<std::uint8_t>(np, 0);
+    require_range<std::uint8_t>(f, c + "/law", law, 0, 2);
     require_range<std::int32_t>(f, c + "/group_a", ga, 0, max_group + 1);
     require_range<std::int32_t>(f, c + "/group_b", gb, 0, max_group + 1);
     for (std::size_t k = 0; k < np; ++k) {
@@ -212,7 +216,8 @@ void read_contact(const h5::File& f, model::Model& m) {
             bad("restitution", eps[k], "must be in [0, 1]");
         if (!(mu[k] >= 0))
             bad("friction", mu[k], "must be >= 0");
-        m.contact.push_back({ga[k], gb[k], rad[k], kn[k], eps[k], mu[k]});
+        m.contact.push_back(
+            {ga[k], gb[k], rad[k], kn[k], eps[k], mu[k], model::ContactLaw{law[k]}});
     }
 }
 

@@ -120,8 +120,8 @@ void warn_close_to_walls(SceneBuild& s) {
         for (std::size_t i = 0; i < m.nodes.num(); ++i) {
             const auto* p = m.contact_between(
                 m.bodies.group[static_cast<std::size_t>(m.nodes.body[i])], wall.group);
-            if (p == nullptr || !(p->stiffness > 0) || !(p->radius > 0) ||
-                !(model::wall_distance(wall, &m.nodes.x0[3 * i]) < p->radius))
+            if (p == nullptr || !(p->stiffness > 0) || !(p->offset() > 0) ||
+                !(model::wall_distance(wall, &m.nodes.x0[3 * i]) < p->offset()))
                 continue;
             ++close;
             rc = std::max(rc, p->radius);

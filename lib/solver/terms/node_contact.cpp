@@ -15,7 +15,7 @@ class NodeContact final : public ForceTerm {
     void add(Forces& f) override {
         {
             ScopedTimer t(f.timers, f.t_search);
-            if (f.contact->update(f.s, *f.dom) && f.dom->distributed())
+            if (f.contact->update(f.s, *f.dom, &f.b) && f.dom->distributed())
                 set_ghosts(f);
         }
         ScopedTimer t(f.timers, f.t_contact);

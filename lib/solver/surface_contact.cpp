@@ -1,0 +1,489 @@
+// SPDX-License-Identifier: MIT
+// The surface contact law (model::ContactLaw::surface): node-to-boundary penalty contact.
+//
+// Every node i that lies inside another body B (behind B's deformed boundary facets) gets the
+// force density c (p - y_i), p the closest point of B's boundary to y_i, c the pair's stiffness
+// (N m-5); the nodes of the facet that holds p get the reaction, shared by p's barycentric
+// weights, so momentum is conserved exactly and, p - y_i being normal to the facet when p is
+// inside it, so is angular momentum. The force derives from the potential 1/2 c V_i |p - y_i|^2
+// (the closest point is stationary), so the contact energy is exact. Both bodies play both parts
+// (each node against the other's facets): no node can slip between two nodes of the other body,
+// since the boundary between them is a facet, whatever the mesh size; and the force acts at
+// contact (no radius), so grains at rest touch.
+//
+// This is the node-to-segment / node-to-surface penalty of finite-element contact (Wriggers,
+// Computational Contact Mechanics, 2nd ed., Springer 2006, ch. 4 and 8: two-pass, closest-point
+// projection) with a penalty that scales as the material's modulus over h^2 (a pressure ~ E/h
+// per unit gap: the penalty layer is ~ h thick and vanishes with the mesh), as in peridynamic
+// contact of deformable bodies against their boundaries (Kamensky et al., CMAME 344 (2019):
+// a penalty ~ E / h between a PD body and a surface).
+//
+// Inside or out: the closest point of B's boundary decides. The facets tried are those incident
+// to B's boundary nodes among i's candidates (within the search radius, which is 1.5 x B's
+// longest facet edge + skin, so a node less than half an edge inside B always finds the facet
+// it entered through). Among the facets at the smallest distance, i is inside when its offset
+// y_i - p points against every one of their outward normals (a shared vertex or edge: inside a
+// reflex corner both normals point away; outside a convex corner one does not).
+#include "core/errors.hpp"
+#include "solver/contact.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+
+namespace pd::solver {
+
+namespace {
+
+/// Closest point of segment (a, b) to x: weights (1 - t, t).
+void closest_on_segment(const double* x, const double* a, const double* b, double* p, double* w) {
+    double ab[3], ax[3];
+    for (int d = 0; d < 3; ++d) {
+        ab[d] = b[d] - a[d];
+        ax[d] = x[d] - a[d];
+    }
+    const double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+    double t = l2 > 0 ? (ax[0] * ab[0] + ax[1] * ab[1] + ax[2] * ab[2]) / l2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    for (int d = 0; d < 3; ++d)
+        p[d] = a[d] + t * ab[d];
+    w[0] = 1 - t;
+    w[1] = t;
+    w[2] = 0;
+}
+
+/// Closest point of triangle (a, b, c) to x, with its barycentric weights (Ericson, Real-Time
+/// Collision Detection, 5.1.5: the Voronoi regions of vertices, edges and face).
+void closest_on_triangle(const double* x, const double* a, const double* b, const double* c,
+                         double* p, double* w) {
+    auto dot = [](const double* u, const double* v) {
+        return u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    };
+    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    for (int d = 0; d < 3; ++d) {
+        ab[d] = b[d] - a[d];
+        ac[d] = c[d] - a[d];
+        ap[d] = x[d] - a[d];
+        bp[d] = x[d] - b[d];
+        cp[d] = x[d] - c[d];
+    }
+    auto set = [&](double u, double v, double t) {
+        w[0] = u;
+        w[1] = v;
+        w[2] = t;
+        for (int d = 0; d < 3; ++d)
+            p[d] = u * a[d] + v * b[d] + t * c[d];
+    };
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0)
+        return set(1, 0, 0);
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3)
+        return set(0, 1, 0);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        const double v = d1 / (d1 - d3);
+        return set(1 - v, v, 0);
+    }
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6)
+        return set(0, 0, 1);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        const double t = d2 / (d2 - d6);
+        return set(1 - t, 0, t);
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return set(0, 1 - t, t);
+    }
+    const double den = 1.0 / (va + vb + vc);
+    const double v = vb * den, t = vc * den;
+    set(1 - v - t, v, t);
+}
+
+/// The closest point p of the facet with vertices v (nv of them; positions x) to xi, its
+/// barycentric weights w, and the facet's outward normal n (not normalised).
+void facet_point(std::size_t nv, const index_t* v, const double* x, const double* xi, double* p,
+                 double* w, double* n) {
+    const double *A = &x[3 * static_cast<std::size_t>(v[0])],
+                 *B = &x[3 * static_cast<std::size_t>(v[1])];
+    if (nv == 2) {
+        closest_on_segment(xi, A, B, p, w);
+        n[0] = B[1] - A[1];
+        n[1] = -(B[0] - A[0]);
+        n[2] = 0;
+        return;
+    }
+    const double* C = &x[3 * static_cast<std::size_t>(v[2])];
+    closest_on_triangle(xi, A, B, C, p, w);
+    const double u[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+    const double t[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+    n[0] = u[1] * t[2] - u[2] * t[1];
+    n[1] = u[2] * t[0] - u[0] * t[2];
+    n[2] = u[0] * t[1] - u[1] * t[0];
+}
+
+/// The facets of one reference mesh (local node ids, oriented outward), nv per facet.
+std::vector<std::int32_t> mesh_facets(const model::RefMesh& r, int dim) {
+    const auto npc = static_cast<std::size_t>(r.nodes_per_cell);
+    const auto X = [&](std::int32_t k) { return &r.nodes[3 * static_cast<std::size_t>(k)]; };
+    // key (sorted vertices, -1 padded) -> (count, oriented facet, a point inside the cell)
+    struct Seen {
+        int count = 0;
+        std::array<std::int32_t, 4> v{-1, -1, -1, -1};
+        std::array<double, 3> inside{0, 0, 0};
+    };
+    std::map<std::array<std::int32_t, 4>, Seen> seen;
+    auto add = [&](std::array<std::int32_t, 4> f, const double* in) {
+        auto k = f;
+        std::sort(k.begin(), k.end());
+        auto& e = seen[k];
+        ++e.count;
+        e.v = f;
+        e.inside = {in[0], in[1], in[2]};
+    };
+    for (std::size_t c = 0; c + npc <= r.cells.size(); c += npc) {
+        const std::int32_t* v = &r.cells[c];
+        double cen[3] = {0, 0, 0};
+        for (std::size_t a = 0; a < npc; ++a)
+            for (int d = 0; d < 3; ++d)
+                cen[d] += X(v[a])[d] / static_cast<double>(npc);
+        if (dim == 2) {
+            for (std::size_t e = 0; e < npc; ++e)
+                add({v[e], v[(e + 1) % npc], -1, -1}, cen);
+        } else if (npc == 4) {
+            add({v[0], v[1], v[2], -1}, cen);
+            add({v[0], v[1], v[3], -1}, cen);
+            add({v[0], v[2], v[3], -1}, cen);
+            add({v[1], v[2], v[3], -1}, cen);
+        } else if (npc == 8) { // grid hexahedron: bottom 0-3, top 4-7 above them
+            const int q[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                 {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+            for (const auto& f : q)
+                add({v[f[0]], v[f[1]], v[f[2]], v[f[3]]}, cen);
+        } else {
+            throw InputError(
+                fmt::format("mesh '{}': {}-node cells have no surface contact", r.name, npc));
+        }
+    }
+    std::vector<std::int32_t> out;
+    const auto orient = [&](std::int32_t a, std::int32_t b, std::int32_t c, const double* in) {
+        const double *A = X(a), *B = X(b);
+        double n[3];
+        if (dim == 2) {
+            n[0] = B[1] - A[1];
+            n[1] = -(B[0] - A[0]);
+            n[2] = 0;
+        } else {
+            const double* C = X(c);
+            const double u[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+            const double w[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+            n[0] = u[1] * w[2] - u[2] * w[1];
+            n[1] = u[2] * w[0] - u[0] * w[2];
+            n[2] = u[0] * w[1] - u[1] * w[0];
+        }
+        const double dot = n[0] * (in[0] - A[0]) + n[1] * (in[1] - A[1]) + n[2] * (in[2] - A[2]);
+        if (dot > 0) // points into the cell: reverse
+            std::swap(dim == 2 ? a : b, dim == 2 ? b : c);
+        out.push_back(a);
+        out.push_back(b);
+        if (dim == 3)
+            out.push_back(c);
+    };
+    for (const auto& [k, e] : seen) {
+        if (e.count != 1)
+            continue;
+        if (dim == 2)
+            orient(e.v[0], e.v[1], -1, e.inside.data());
+        else {
+            orient(e.v[0], e.v[1], e.v[2], e.inside.data());
+            if (e.v[3] >= 0) // quad face: the second triangle
+                orient(e.v[0], e.v[2], e.v[3], e.inside.data());
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+Facets boundary_facets(const model::Model& m, const std::vector<std::uint8_t>& want) {
+    Facets F;
+    F.nv = m.dimension == 3 ? 3 : 2;
+    const auto nv = static_cast<std::size_t>(F.nv);
+    std::map<std::int32_t, std::vector<std::int32_t>> by_mesh;
+    const auto& B = m.bodies;
+    for (std::size_t b = 0; b < B.num(); ++b) {
+        if (!want[b])
+            continue;
+        const auto r = B.ref_mesh[b];
+        const std::size_t n = static_cast<std::size_t>(B.end(b) - B.begin(b));
+        if (r < 0 || static_cast<std::size_t>(r) >= m.ref_meshes.size() ||
+            m.ref_meshes[static_cast<std::size_t>(r)].cells.empty() ||
+            m.ref_meshes[static_cast<std::size_t>(r)].nodes.size() != 3 * n)
+            throw InputError(fmt::format(
+                "body {}: the surface contact law needs its mesh's cells (it has none, or not "
+                "its {} nodes); give this pair the node law (contact \"law\": \"node\")",
+                b, n));
+        auto it = by_mesh.find(r);
+        if (it == by_mesh.end())
+            it =
+                by_mesh
+                    .emplace(r, mesh_facets(m.ref_meshes[static_cast<std::size_t>(r)], m.dimension))
+                    .first;
+        const auto off = static_cast<index_t>(B.begin(b));
+        for (std::size_t k = 0; k + nv <= it->second.size(); k += nv) {
+            for (std::size_t a = 0; a < nv; ++a)
+                F.v.push_back(off + it->second[k + a]);
+            F.body.push_back(static_cast<std::int32_t>(b));
+        }
+    }
+    // Node -> facets (CSR), longest edge.
+    const std::size_t n = m.nodes.num();
+    F.offsets.assign(n + 1, 0);
+    for (auto v : F.v)
+        ++F.offsets[static_cast<std::size_t>(v) + 1];
+    for (std::size_t i = 0; i < n; ++i)
+        F.offsets[i + 1] += F.offsets[i];
+    F.of_node.resize(F.v.size());
+    F.edge2.assign(F.num(), 0.0);
+    auto next = F.offsets;
+    for (std::size_t f = 0; f < F.num(); ++f)
+        for (std::size_t a = 0; a < nv; ++a) {
+            const auto v = static_cast<std::size_t>(F.v[nv * f + a]);
+            F.of_node[static_cast<std::size_t>(next[v]++)] = static_cast<std::int32_t>(f);
+            const auto u = static_cast<std::size_t>(F.v[nv * f + (a + 1) % nv]);
+            double l2 = 0;
+            for (std::size_t d = 0; d < 3; ++d) {
+                const double e = m.nodes.x0[3 * u + d] - m.nodes.x0[3 * v + d];
+                l2 += e * e;
+            }
+            F.max_edge = std::max(F.max_edge, std::sqrt(l2));
+            F.edge2[f] = std::max(F.edge2[f], l2);
+        }
+    return F;
+}
+
+void ContactList::init_surface(const model::Model& m) {
+    const std::size_t nb = m.bodies.num();
+    std::vector<std::uint8_t> want(nb, 0);
+    for (std::size_t a = 0; a < nb; ++a)
+        for (std::size_t b = 0; b < nb; ++b)
+            if (a != b) {
+                const auto k =
+                    law_of_[static_cast<std::size_t>(body_group_[a] * ngroups_ + body_group_[b])];
+                if (k >= 0 && laws_[static_cast<std::size_t>(k)].law == model::ContactLaw::surface)
+                    want[a] = want[b] = 1;
+            }
+    facets_ = boundary_facets(m, want);
+    h_body_ = m.bodies.mesh_size;
+    // A node less than half an edge (the guard's bound) inside a body has every vertex of the
+    // facet it entered through within 1.5 edges; so do the nodes of any facet it can push.
+    rc_max_ = std::max(rc_max_, 1.5 * facets_.max_edge);
+}
+
+void ContactList::surface_rows(const State& s) {
+    srows_.clear();
+    for (std::size_t i = 0; i < s.n; ++i)
+        if (offsets_[i + 1] > offsets_[i]) // owned rows, and the ghost rows made for this law
+            srows_.push_back(static_cast<index_t>(i));
+}
+
+bool ContactList::torn(std::int32_t f, const State& s) const {
+    // A facet whose edge grew to twice its length has no material under it any more (its
+    // grain broke there): it pushes nothing. Broken pieces then meet through the other body's
+    // facets and the broken-bond repulsion.
+    const auto nv = static_cast<std::size_t>(facets_.nv);
+    const index_t* v = &facets_.v[nv * static_cast<std::size_t>(f)];
+    const double lim = 4.0 * facets_.edge2[static_cast<std::size_t>(f)];
+    for (std::size_t a = 0; a < nv; ++a) {
+        if (!whole_.empty() && !whole_[static_cast<std::size_t>(v[a])])
+            return true; // a node that lost half its bonds: the boundary there is gone
+        const double* p = &s.x[3 * static_cast<std::size_t>(v[a])];
+        const double* q = &s.x[3 * static_cast<std::size_t>(v[(a + 1) % nv])];
+        const double d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                          (p[2] - q[2]) * (p[2] - q[2]);
+        if (d2 > lim)
+            return true;
+    }
+    return false;
+}
+
+/// The closest boundary point of each other body to node i, among the facets at i's candidates.
+struct ContactList::Best {
+    std::int32_t body, facet;
+    double d2;
+    bool inside;
+    double p[3], w[3];
+    const model::ContactPair* law;
+};
+
+void ContactList::surface_row(std::size_t i, const State& s, std::vector<Event>& out,
+                              std::vector<Best>& best) const {
+    const auto nv = static_cast<std::size_t>(facets_.nv);
+    const double* xi = &s.x[3 * i];
+    best.clear();
+    for (auto k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+        const auto j = static_cast<std::size_t>(neighbor_[static_cast<std::size_t>(k)]);
+        const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
+        if (law.law != model::ContactLaw::surface)
+            continue;
+        for (auto q = facets_.offsets[j]; q < facets_.offsets[j + 1]; ++q) {
+            const auto f = facets_.of_node[static_cast<std::size_t>(q)];
+            const index_t* v = &facets_.v[nv * static_cast<std::size_t>(f)];
+            if (torn(f, s))
+                continue;
+            double p[3], w[3], n[3];
+            facet_point(nv, v, s.x.data(), xi, p, w, n);
+            const double o[3] = {xi[0] - p[0], xi[1] - p[1], xi[2] - p[2]};
+            const double d2 = o[0] * o[0] + o[1] * o[1] + o[2] * o[2];
+            const bool neg = o[0] * n[0] + o[1] * n[1] + o[2] * n[2] < 0;
+            const auto body = s.body[j];
+            auto it = std::find_if(best.begin(), best.end(),
+                                   [&](const Best& b) { return b.body == body; });
+            if (it == best.end()) {
+                best.push_back({body, f, d2, neg, {p[0], p[1], p[2]}, {w[0], w[1], w[2]}, &law});
+                continue;
+            }
+            const double tol = 1e-10 * std::max(d2, it->d2);
+            if (d2 < it->d2 - tol) {
+                *it = {body, f, d2, neg, {p[0], p[1], p[2]}, {w[0], w[1], w[2]}, &law};
+            } else if (d2 <= it->d2 + tol) {
+                it->inside = it->inside && neg; // a shared vertex or edge: all must agree
+                if (f < it->facet) { // the smallest facet of a tie: the same on every rank
+                    it->facet = f;
+                    std::copy(p, p + 3, it->p);
+                    std::copy(w, w + 3, it->w);
+                }
+            }
+        }
+    }
+    std::sort(best.begin(), best.end(),
+              [](const Best& x, const Best& y) { return x.facet < y.facet; });
+    for (const auto& b : best) {
+        if (!b.inside || !(b.d2 > 0))
+            continue;
+        // The potential: 1/2 c V d^2 up to d1 = h / 2 (the facet body's mesh size h), then
+        // falling back to 0 at d2 = h: a node that deep has not come through this facet
+        // (contact failed there, and the guard says so, or it lies in a crack of a broken
+        // grain behind a facet that still stands) and is left alone, with no jump in the
+        // energy.
+        const double d = std::sqrt(b.d2);
+        const double d1 = 0.5 * h_body_[static_cast<std::size_t>(b.body)], d2 = 2 * d1;
+        if (d >= d2)
+            continue;
+        const double cv = b.law->stiffness * s.vol[i];
+        const double fmag = d <= d1 ? cv * d : -cv * d1 * (d2 - d) / (d2 - d1); // along p - y
+        const double energy =
+            d <= d1 ? 0.5 * cv * d * d
+                    : 0.5 * cv * d1 * d1 * (d2 - d) * (d2 - d) / ((d2 - d1) * (d2 - d1));
+        const double a = fmag / d;
+        out.push_back({static_cast<index_t>(i),
+                       b.facet,
+                       {b.w[0], b.w[1], b.w[2]},
+                       {a * (b.p[0] - xi[0]), a * (b.p[1] - xi[1]), a * (b.p[2] - xi[2])},
+                       energy,
+                       d > d1});
+    }
+}
+
+void ContactList::apply_events(State& s, Sums& sums, std::vector<BodyPairForce>* normal) const {
+    const auto nv = static_cast<std::size_t>(facets_.nv);
+    // The forces: on the node inside, then the reactions on the facets' nodes, in event order
+    // (the same on every rank and thread count, so frames do not depend on them).
+    for (const auto& ev : events_) {
+        const auto i = static_cast<std::size_t>(ev.i);
+        const auto bi = s.body[i];
+        const auto bj = facets_.body[static_cast<std::size_t>(ev.facet)];
+        const auto& law = laws_[static_cast<std::size_t>(
+            law_of_[static_cast<std::size_t>(body_group_[static_cast<std::size_t>(bi)] * ngroups_ +
+                                             body_group_[static_cast<std::size_t>(bj)])])];
+        if (owned_[i]) {
+            for (std::size_t d = 0; d < 3; ++d)
+                s.f[3 * i + d] += ev.force[d] / s.vol[i];
+            sums.energy += ev.energy;
+            ++sums.touching;
+            if (ev.deep) {
+                ++sums.inside; // more than h/2 inside the other body: contact failed there
+                if (sums.first_node < 0) {
+                    sums.first_node = ev.i;
+                    sums.first_body = bj;
+                }
+            }
+        }
+        const index_t* v = &facets_.v[nv * static_cast<std::size_t>(ev.facet)];
+        for (std::size_t a = 0; a < nv; ++a) {
+            const auto kk = static_cast<std::size_t>(v[a]);
+            if (!owned_[kk] || ev.w[a] == 0)
+                continue;
+            for (std::size_t d = 0; d < 3; ++d)
+                s.f[3 * kk + d] -= ev.w[a] * ev.force[d] / s.vol[kk];
+        }
+        if (normal) {
+            // The record of a touching pair for damping and friction: the node inside and the
+            // facet node of the largest weight, on every rank that owns one of them; the force
+            // on the body of the larger node.
+            std::size_t amax = 0;
+            for (std::size_t a = 1; a < nv; ++a)
+                if (ev.w[a] > ev.w[amax])
+                    amax = a;
+            const index_t j = v[amax];
+            if ((law.restitution < 1 || law.friction > 0) &&
+                (owned_[i] || owned_[static_cast<std::size_t>(j)])) {
+                const double sg = ev.i < j ? -1.0 : 1.0; // on j's body: -F; on i's: +F
+                BodyPairForce rec{ev.i < j ? bi : bj,
+                                  ev.i < j ? bj : bi,
+                                  std::min(ev.i, j),
+                                  std::max(ev.i, j),
+                                  {sg * ev.force[0], sg * ev.force[1], sg * ev.force[2]},
+                                  law.friction,
+                                  law.restitution < 1};
+                normal->push_back(rec);
+            }
+        }
+    }
+}
+
+std::int64_t ContactList::add_surface(State& s, double& energy,
+                                      std::vector<BodyPairForce>* normal) const {
+    const auto nrows = static_cast<std::int64_t>(srows_.size());
+    events_.clear();
+    if (threaded(nrows)) {
+#pragma omp parallel
+        {
+            std::vector<Event> mine;
+            std::vector<Best> best;
+#pragma omp for schedule(static) nowait
+            for (std::int64_t a = 0; a < nrows; ++a)
+                surface_row(static_cast<std::size_t>(srows_[static_cast<std::size_t>(a)]), s, mine,
+                            best);
+#pragma omp critical(pd_surface_events)
+            events_.insert(events_.end(), mine.begin(), mine.end());
+        }
+        // Every thread's rows in row order, whatever the schedule.
+        std::sort(events_.begin(), events_.end(), [](const Event& a, const Event& b) {
+            return a.i != b.i ? a.i < b.i : a.facet < b.facet;
+        });
+    } else {
+        std::vector<Best> best;
+        for (std::int64_t a = 0; a < nrows; ++a)
+            surface_row(static_cast<std::size_t>(srows_[static_cast<std::size_t>(a)]), s, events_,
+                        best);
+    }
+    Sums sums;
+    apply_events(s, sums, normal);
+    energy += sums.energy;
+    if (sums.inside > 0) {
+        inside_.count += sums.inside;
+        if (inside_.node < 0 || sums.first_node < inside_.node) {
+            inside_.node = sums.first_node;
+            inside_.body = s.body[static_cast<std::size_t>(sums.first_node)];
+            inside_.inside = sums.first_body;
+        }
+    }
+    return sums.touching;
+}
+
+} // namespace pd::solver
