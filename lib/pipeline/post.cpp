@@ -102,9 +102,9 @@ fs::path output_dir(const PostOptions& opt) {
     return out_dir;
 }
 
-/// From here on the run is recorded in the file, failed or not (ctx.on_exit runs after post()
-/// has returned or thrown, its read handle closed). A read-only file still gets its outputs;
-/// only the record is missing (warned).
+/// From here on the run is recorded in the file, unless refused (exit 2: the file stays byte for
+/// byte as it was); ctx.on_exit runs after post() has returned or thrown, its read handle closed. A
+/// read-only file still gets its outputs; only the record is missing (warned).
 void record_on_exit(const PostOptions& opt, Context& ctx) {
     if (::access(opt.file.c_str(), W_OK) != 0)
         ctx.log.warn("{}: read-only ({}): the outputs are written, but this run cannot be "
@@ -112,6 +112,8 @@ void record_on_exit(const PostOptions& opt, Context& ctx) {
                      opt.file, std::strerror(errno));
     else
         ctx.on_exit = [&opt, &ctx](int code) {
+            if (code == exit_input)
+                return; // a refusal (bad option, damaged or unsuitable file): the file unchanged
             try {
                 h5::File w(opt.file, h5::Mode::read_write);
                 store::append_provenance(w, ctx.run, code);
