@@ -434,3 +434,95 @@ def test_input_not_a_regular_file(bin_dir, tmp_path, tool, source):
     assert not out.exists() and not (tmp_path / "post").exists()
     if source == "fifo":
         assert stat.S_ISFIFO(os.lstat(src).st_mode)
+
+
+# ---------------------------------------------------------------------------------------------
+# 7. Accepted but wrong -> refused: bond lists, condition node lists, deck integers
+
+
+def damage_bonds(f, how):
+    with h5py.File(f, "r+") as h:
+        off = h["bonds/offsets"][()]
+        nb = h["bonds/neighbor"][()]
+        row = nb[off[0]:off[1]]
+        if how == "duplicate":
+            nb[off[0]] = row[1]
+        else:  # asymmetric: node 0 names a node that does not name it back
+            far = next(k for k in range(len(off) - 1) if k != 0 and k not in row)
+            nb[off[0]] = far
+        h["bonds/neighbor"][...] = nb
+
+
+@pytest.mark.parametrize("how, culprit", [("duplicate", "twice"), ("asymmetric", "asymmetric")])
+@pytest.mark.parametrize("tool", ["pd-solve", "pd-partition", "pd-post-check"])
+def test_bad_bond_list_refused(bin_dir, copy, tool, how, culprit):
+    f = copy("base")
+    damage_bonds(f, how)
+    before = sha(f)
+    args = {
+        "pd-solve": ["pd-solve", f, "--steps", 5],
+        "pd-partition": ["pd-partition", f, "-n", 2],
+        "pd-post-check": ["pd-post", "--check", f],
+    }[tool]
+    r = run(bin_dir / args[0], *args[1:], timeout=60)
+    assert_refused(r, "/bonds/neighbor", culprit)
+    assert sha(f) == before
+
+
+@pytest.mark.parametrize("tool", ["pd-solve", "pd-post-check"])
+def test_node_repeated_in_a_condition_refused(bin_dir, tmp_path, tool):
+    scene = write_scene(tmp_path / "scene.json", loading={"gravity": [0, 0], "conditions": [
+        {"name": "push", "kind": "force_density", "particles": [0], "components": ["x"],
+         "value": 1e3}]})
+    f = tmp_path / "c.h5"
+    r = run(bin_dir / "pd-pack", scene, "-o", f, "-q")
+    assert r.returncode == 0, r.stderr
+    with h5py.File(f, "r+") as h:
+        g = h["loading/conditions"]
+        p = f"loading/conditions/{sorted(g)[0]}/nodes"
+        nodes, attrs = h[p][()], dict(h[p].attrs)
+        del h[p]
+        h[p] = np.concatenate([nodes, np.repeat(nodes[:1], 7)])  # node listed 8 times
+        h[p].attrs.update(attrs)
+    before = sha(f)
+    args = ["pd-solve", f, "--steps", 5] if tool == "pd-solve" else ["pd-post", "--check", f]
+    r = run(bin_dir / args[0], *args[1:], timeout=60)
+    assert_refused(r, "/nodes", "more than once")
+    assert sha(f) == before
+
+
+@pytest.mark.parametrize("old, new, culprit", [
+    ("  Sets: 2", "  Sets: 1e12", "Displacement_BC.Sets"),
+    ("  Sets: 2", "  Sets: 1.5", "Displacement_BC.Sets"),
+    ("  Dimension: 2", "  Dimension: 4294967298", "Model.Dimension"),
+    ("      Type: 1", "      Type: 1e10", "Influence_Function.Type"),
+    ("    Gc: 5.000000e+02", "    Gc: -50", "Gc"),
+])
+def test_deck_integers_and_values_checked_before_use(bin_dir, tmp_path, old, new, culprit):
+    d = deck_dir(tmp_path, "single_particle_circle")
+    deck = d / "input_0.yaml"
+    text = deck.read_text()
+    assert old in text
+    deck.write_text(text.replace(old, new, 1))
+    out = tmp_path / "out.h5"
+    r = run(bin_dir / "pd-pack", "--from-peridem", deck, "-o", out)
+    assert_refused(r, culprit)
+    assert not out.exists()
+
+
+def test_csv_error_never_echoes_the_content(bin_dir, tmp_path):
+    secret = tmp_path / "secret.txt"
+    secret.write_text("USER=me\nAPI_TOKEN=abc123\n")  # the first line passes for a header
+    scene = write_scene(tmp_path / "scene.json", particles=[
+        {"generate": "csv", "file": "secret.txt", "shapes": ["disc"], "material": "m1"}])
+    r = run(bin_dir / "pd-pack", scene, "-o", tmp_path / "out.h5")
+    assert_refused(r, "secret.txt", "byte")
+    assert "API_TOKEN" not in r.stderr and "abc123" not in r.stderr
+
+
+def test_scene_error_never_echoes_the_content(bin_dir, tmp_path):
+    secret = tmp_path / "secret.json"
+    secret.write_text("API_TOKEN=abc123\n")
+    r = run(bin_dir / "pd-pack", secret, "-o", tmp_path / "out.h5")
+    assert_refused(r, "secret.json", "not valid JSON")
+    assert "API_TOKEN" not in r.stderr and "abc123" not in r.stderr
