@@ -173,6 +173,38 @@ def test_side_file_planted_as_a_link(bin_dir, copy, tmp_path, side, alias):
     assert not os.path.lexists(str(f) + ".reserve")
 
 
+@pytest.mark.parametrize("name, kind", [("observables.csv", "fifo"), ("solved.pvd", "dir"),
+                                        ("grains.csv", "socket")])
+def test_post_product_not_a_regular_file(bin_dir, copy, tmp_path, name, kind):
+    f = copy("solved")
+    out = tmp_path / "post"
+    out.mkdir()
+    target = out / name
+    keep = target.mkdir() if kind == "dir" else special_file(kind, target)
+    mode = os.lstat(target).st_mode
+    before = sha(f)
+    r = run(bin_dir / "pd-post", f, "-o", out, timeout=60)
+    assert_refused(r, name, "not a regular file")
+    assert os.lstat(target).st_mode == mode and sha(f) == before
+    assert sorted(p.name for p in out.iterdir()) == [name]
+    if keep:
+        keep.close()
+
+
+def test_post_product_planted_as_a_link(bin_dir, copy, tmp_path):
+    f = copy("solved")
+    out = tmp_path / "post"
+    out.mkdir()
+    notes = tmp_path / "notes.txt"
+    notes.write_text("my notes\n")
+    for name in ("observables.csv", "observables.csv.tmp", "solved.pvd.tmp"):
+        os.symlink(notes, out / name)
+    r = run(bin_dir / "pd-post", f, "-o", out, "-q", timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert notes.read_text() == "my notes\n"
+    assert (out / "observables.csv").is_file() and not (out / "observables.csv").is_symlink()
+
+
 # ---------------------------------------------------------------------------------------------
 # 2. Locks
 
