@@ -381,7 +381,7 @@ def test_stop_signal_checkpoints_and_exits_75(bin_dir, copy, sig):
         assert "latest" in h["checkpoints"].attrs
         last = sorted(h["provenance"])[-1]
         assert int(h["provenance"][last].attrs["exit_status"]) == 75
-    r = run(bin_dir / "pd-solve", f, "--restart", "--steps", 5, "-q")
+    r = run(bin_dir / "pd-solve", f, "--restart", "--final-time", 1.0, "--steps", 5, "-q")
     assert r.returncode == 0, r.stderr
 
 
