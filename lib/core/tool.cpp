@@ -2,6 +2,7 @@
 #include "core/tool.hpp"
 
 #include "core/errors.hpp"
+#include "core/files.hpp"
 #include "core/mpi.hpp"
 #include "core/version.hpp"
 
@@ -60,11 +61,7 @@ bool same_path(const std::string& a, const std::string& b) {
 
 void check_output_file(const std::string& option, const std::string& path,
                        const std::vector<std::pair<std::string, std::string>>& inputs) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (fs::is_directory(path, ec))
-        throw InputError(
-            fmt::format("{} {}: is a directory; give the name of a file to write", option, path));
+    check_output_target(option, path); // a directory, device, FIFO, socket; an input read
     for (const auto& [what, in] : inputs)
         if (!in.empty() && same_path(path, in))
             throw InputError(fmt::format("{} {}: is the same file as the {} {}; it would be "

@@ -2,6 +2,7 @@
 // The particle CSV format of packing.hpp: x, y, z, r, orientation, shape per row, an optional
 // header, '#' comments and blank lines skipped; written with 17 significant digits.
 #include "core/errors.hpp"
+#include "core/files.hpp"
 #include "geometry/packing.hpp"
 
 #include <fmt/format.h>
@@ -23,7 +24,8 @@ std::string_view trim(std::string_view s) {
     return s;
 }
 
-/// Splits a CSV row into numbers; false if a field is not a number.
+/// Splits a CSV row into numbers; false if a field is not a number (`out` then holds the fields
+/// before it).
 bool parse_row(std::string_view line, std::vector<double>& out) {
     out.clear();
     for (;;) {
@@ -43,6 +45,7 @@ bool parse_row(std::string_view line, std::vector<double>& out) {
 } // namespace
 
 std::vector<Grain> read_particle_csv(const std::string& path) {
+    note_input("particle file", path);
     std::ifstream in(path);
     if (!in)
         throw InputError(fmt::format("cannot open particle file '{}'", path));
@@ -50,7 +53,8 @@ std::vector<Grain> read_particle_csv(const std::string& path) {
     std::string line;
     std::vector<double> v;
     bool first = true;
-    for (std::size_t no = 1; std::getline(in, line); ++no) {
+    std::size_t offset = 0; // of the line's first byte in the file
+    for (std::size_t no = 1; std::getline(in, line); ++no, offset += line.size() + 1) {
         const std::string_view t = trim(line);
         if (t.empty() || t.front() == '#')
             continue;
@@ -60,10 +64,17 @@ std::vector<Grain> read_particle_csv(const std::string& path) {
             continue;
         }
         first = false;
-        if (!ok || v.size() != 6)
-            throw InputError(fmt::format("{}:{}: expected 6 comma-separated numbers x, y, z, r, "
-                                         "orientation, shape; found '{}'",
-                                         path, no, t));
+        // The message names the place, never the content: the file may be anything but a
+        // particle CSV (a path gone wrong), and its bytes are not ours to print.
+        if (!ok)
+            throw InputError(fmt::format("{}:{} (byte {} of the file): expected 6 comma-separated "
+                                         "numbers x, y, z, r, orientation, shape; field {} is not "
+                                         "a number",
+                                         path, no, offset, v.size() + 1));
+        if (v.size() != 6)
+            throw InputError(fmt::format("{}:{} (byte {} of the file): expected 6 comma-separated "
+                                         "numbers x, y, z, r, orientation, shape; found {}",
+                                         path, no, offset, v.size()));
         const double shape = v[5];
         if (!(v[3] > 0) || !std::isfinite(v[3]))
             throw InputError(fmt::format("{}:{}: radius {} must be > 0", path, no, v[3]));

@@ -6,6 +6,7 @@
 #include "geometry/solid.hpp"
 
 #include "core/errors.hpp"
+#include "core/files.hpp"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -151,6 +152,7 @@ Solid Solid::from_triangles(std::vector<Point3> vertices, std::vector<Triangle> 
 }
 
 Solid Solid::read_stl(const std::string& path) {
+    note_input("STL file", path);
     if (!std::filesystem::is_regular_file(path) || !std::ifstream(path))
         throw InputError(fmt::format("cannot open STL file '{}'", path));
     std::vector<Point> points;

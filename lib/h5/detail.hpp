@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <numeric>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -49,5 +50,10 @@ inline Handle vlen_string_type() {
     H5Tset_cset(t.get(), H5T_CSET_UTF8);
     return t;
 }
+
+/// Throws Error naming the first object of the open file `file` (named `name`) that points
+/// outside it: an external or user-defined link, a virtual dataset, external raw storage
+/// (confined.cpp).
+void refuse_links_elsewhere(hid_t file, const std::string& name);
 
 } // namespace pd::h5::detail

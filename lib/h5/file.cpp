@@ -125,6 +125,10 @@ File::File(const std::string& name, Mode mode, const void* mpi_comm)
         MPI_Bcast(why.data(), len, MPI_CHAR, 0, comm);
         if (len > 0)
             throw InputError(why);
+        // Every other rank of a writing run holds the lock too, shared: a rank that outlives
+        // rank 0 (killed alone) keeps the file locked until it has gone.
+        if (mode != Mode::read && rank_ != 0)
+            lock_ = FileLock::share(name);
         if (H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL) < 0)
             fail("/", "cannot set the MPI-IO driver");
         H5Pset_dxpl_mpio(xfer_.get(), H5FD_MPIO_COLLECTIVE);
@@ -145,6 +149,8 @@ File::File(const std::string& name, Mode mode, const void* mpi_comm)
             fail("/", mode == Mode::read ? "cannot open for reading" : "cannot open for writing");
     }
     id_ = Handle(id);
+    if (mode != Mode::create_truncate)
+        refuse_links_elsewhere(id, name_);
 }
 
 void File::flush() {

@@ -6,6 +6,7 @@
 #include "mesh/shape_mesher.hpp"
 
 #include "core/errors.hpp"
+#include "core/files.hpp"
 #include "mesh/gmsh_session.hpp"
 
 #include <algorithm>
@@ -427,6 +428,7 @@ model::RefMesh read_msh(const std::string& path, int dimension) {
     if (dimension != 0 && dimension != 2 && dimension != 3)
         throw InputError(
             fmt::format("{}: dimension must be 0 (auto), 2 or 3, got {}", path, dimension));
+    note_input("mesh file", path);
     if (!std::ifstream(path))
         throw InputError(fmt::format("cannot open mesh file '{}'", path));
     GmshSession session;

@@ -90,7 +90,11 @@ Resolved apply_overrides(const std::string& text, const std::string& source,
     try {
         root = json::parse(text, nullptr, true, /*ignore_comments=*/true);
     } catch (const json::parse_error& e) {
-        throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
+        // The place, never the bytes read (nlohmann's "; last read: '...'"): a file that is
+        // not a scene is not echoed.
+        std::string why = e.what();
+        why = why.substr(0, why.find("; last read"));
+        throw InputError(fmt::format("{}: not valid JSON (byte {}): {}", source, e.byte, why));
     }
     json record = json::object();
     for (const auto& set : sets) {

@@ -3,6 +3,7 @@
 
 #include "core/errors.hpp"
 #include "core/file_lock.hpp"
+#include "core/files.hpp"
 #include "h5/file.hpp"
 #include "pipeline/overrides.hpp"
 #include "pipeline/peridem_import.hpp"
@@ -12,7 +13,9 @@
 #include "store/schema.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -86,13 +89,19 @@ void warn_sparse_families(const model::Model& m, const Log& log) {
 }
 
 /// Writes the packed model under a temporary name and renames it into place: a failed write
-/// (full disk) leaves any previous output as it was.
+/// (full disk) leaves any previous output as it was. The temporary file is created exclusively
+/// (never through a link planted under its name).
 void write_packed(const model::Model& m, const std::string& output, Context& ctx) {
     const std::string tmp = fmt::format("{}.tmp.{}", output, ::getpid());
-    // 1 MB set aside, freed when a write fails (full disk) so that HDF5 can close the temporary
-    // file instead of crashing (SIGSEGV at close before).
-    SpaceReserve reserve = SpaceReserve::create(tmp, std::uint64_t{1} << 20);
+    const int fd = create_side_file(tmp);
+    if (fd < 0)
+        throw InputError(fmt::format("-o {}: cannot create the temporary file {}: {}", output, tmp,
+                                     std::strerror(errno)));
+    ::close(fd);
     try {
+        // 1 MB set aside, freed when a write fails (full disk) so that HDF5 can close the
+        // temporary file instead of crashing (SIGSEGV at close before).
+        SpaceReserve reserve = SpaceReserve::create(tmp, std::uint64_t{1} << 20);
         {
             h5::File f(tmp, h5::Mode::create_truncate);
             try {
@@ -114,6 +123,34 @@ void write_packed(const model::Model& m, const std::string& output, Context& ctx
     }
 }
 
+/// -o onto a pd-file holding the results of a run (frames, observables, checkpoints) would
+/// destroy them: only with --overwrite.
+void refuse_results(const PackOptions& opt) {
+    if (opt.overwrite || !h5::is_hdf5(opt.output))
+        return;
+    const h5::File f(opt.output, h5::Mode::read);
+    std::string what;
+    for (const char* p :
+         {store::path::particles, store::path::observables, store::path::checkpoints})
+        if (f.exists(p))
+            what += (what.empty() ? "" : ", ") + std::string(p);
+    if (!what.empty())
+        throw InputError(fmt::format("-o {}: holds the results of a run ({}); pd-pack would "
+                                     "replace them: give another name, or --overwrite",
+                                     opt.output, what));
+}
+
+/// Every output against everything the run has read (scene, deck, its meshes, CSV and STL
+/// files, by device + inode): checked after the build has read them, before any output is
+/// written.
+void check_outputs_against_inputs(const PackOptions& opt) {
+    for (const auto& [option, path] : {std::pair<const char*, const std::string&>{"-o", opt.output},
+                                       {"--write-scene", opt.write_scene},
+                                       {"--preview", opt.preview}})
+        if (!path.empty())
+            check_output_target(option, path);
+}
+
 } // namespace
 
 void pack(const PackOptions& opt, Context& ctx) {
@@ -133,11 +170,14 @@ void pack(const PackOptions& opt, Context& ctx) {
                            {"--write-scene file", opt.write_scene}});
     if (opt.max_nodes_given && !(opt.max_nodes >= 1))
         throw InputError(fmt::format("--max-nodes {}: must be at least 1", opt.max_nodes));
+    if (!opt.output.empty())
+        refuse_results(opt);
     std::string text, source;
     if (!opt.from_peridem.empty()) {
         text = peridem_to_scene(opt.from_peridem, ctx.log, opt.parity == "peridem");
         source = opt.from_peridem;
     } else {
+        note_input("scene", opt.scene);
         std::ifstream in(opt.scene);
         if (!in)
             throw InputError(fmt::format("{}: cannot read the scene file", opt.scene));
@@ -155,17 +195,20 @@ void pack(const PackOptions& opt, Context& ctx) {
             return;
         }
     }
+    // The output may be a file another tool is running on (an MPI pd-solve): refused before the
+    // work, and held until the new file is renamed into place (issue 13).
+    const FileLock output_lock = FileLock::acquire(opt.output);
+    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes_given ? opt.max_nodes : 0);
+    warn_sparse_families(m, ctx.log);
+    // The build has read every file the scene names: no output may be one of them (a deck's
+    // .msh, a particle CSV, an STL), and none is written before this check.
+    check_outputs_against_inputs(opt);
     if (!opt.write_scene.empty()) {
         std::ofstream out(opt.write_scene);
         if (!(out << text))
             throw InputError(fmt::format("{}: cannot write the scene", opt.write_scene));
         ctx.log.info("wrote the scene {}", opt.write_scene);
     }
-    // The output may be a file another tool is running on (an MPI pd-solve): refused before the
-    // work, and held until the new file is renamed into place (issue 13).
-    const FileLock output_lock = FileLock::acquire(opt.output);
-    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes_given ? opt.max_nodes : 0);
-    warn_sparse_families(m, ctx.log);
 
     write_packed(m, opt.output, ctx);
     ctx.log.info("wrote {}: {} bodies, {} walls, {} nodes, {} bonds, {} materials", opt.output,

@@ -23,6 +23,7 @@ struct PackOptions {
     double max_nodes = 0; ///< refuse scenes estimated above this many nodes (before meshing);
                           ///< 0: what fits in the available memory (pipeline/resources.hpp)
     bool max_nodes_given = false; ///< --max-nodes was given (then it must be >= 1)
+    bool overwrite = false;       ///< -o may replace a pd-file holding results
     CommonOptions common;
 };
 

@@ -79,9 +79,14 @@ void partition(const PartitionOptions& opt, Context& ctx) {
         throw InputError(fmt::format("{}: cannot write to this file ({}): pd-partition stores "
                                      "/partition in it",
                                      opt.file, std::strerror(errno)));
-    auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
-    const model::Model m = store::read_model(*f); // refuses a file it cannot read, untouched
+    model::Model m;
+    {
+        // Read only: a refused run leaves the file as it was, byte for byte.
+        const h5::File rf(opt.file, h5::Mode::read);
+        m = store::read_model(rf); // refuses a file it cannot read
+    }
     const auto p = make_partition(m, opt.num_parts, opt.by, opt.file);
+    auto f = std::make_shared<h5::File>(opt.file, h5::Mode::read_write);
     // Recorded from here: a refused run leaves the file as it was.
     ctx.on_exit = [f, &ctx](int code) { store::append_provenance(*f, ctx.run, code); };
     store::write_partition(*f, p);

@@ -2,6 +2,7 @@
 #include "pipeline/peridem_import.hpp"
 
 #include "core/errors.hpp"
+#include "core/files.hpp"
 #include "pipeline/peridem/import.hpp"
 
 #include <set>
@@ -16,6 +17,7 @@ std::string peridem_to_scene(const std::string& yaml_path, const Log& log, bool 
     d.path = yaml_path;
     d.dir = fs::absolute(fs::path(yaml_path)).parent_path();
     try {
+        note_input("--from-peridem deck", yaml_path);
         d.root = YAML::LoadFile(yaml_path);
     } catch (const YAML::BadFile&) {
         throw InputError(fmt::format("{}: cannot read the PeriDEM deck", yaml_path));

@@ -20,6 +20,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <chrono>
@@ -86,6 +87,32 @@ post::CrackOptions crack_options(const PostOptions& opt) {
     return crack_opt;
 }
 
+/// Products are written under a temporary name and renamed into place, so a link under a
+/// product's name is replaced, never followed; a FIFO, device, socket or directory there is
+/// refused before anything is written (it would be replaced, or the rename fail half-way).
+void refuse_special_products(const fs::path& out_dir, const std::string& stem) {
+    std::error_code ec;
+    if (!fs::is_directory(out_dir, ec))
+        return;
+    const std::array<std::string, 6> csv = {"observables.csv", "grains.csv",
+                                            "walls.csv",       "crack.csv",
+                                            "crack_nodes.csv", "crack_summary.csv"};
+    for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+        const std::string name = e.path().filename().string();
+        const auto ext = e.path().extension().string();
+        const bool product =
+            std::find(csv.begin(), csv.end(), name) != csv.end() ||
+            (name.rfind(stem, 0) == 0 && (ext == ".vtu" || ext == ".pvd" || ext == ".xmf"));
+        const auto st = e.symlink_status(ec);
+        if (!product || ec || st.type() == fs::file_type::regular ||
+            st.type() == fs::file_type::symlink)
+            continue;
+        throw InputError(fmt::format("-o {}: {} is not a regular file (a directory, FIFO, device "
+                                     "or socket); pd-post would replace it: move it away first",
+                                     out_dir.string(), e.path().string()));
+    }
+}
+
 /// -o, or "post" beside the file; neither the input file nor an existing non-directory.
 fs::path output_dir(const PostOptions& opt) {
     const fs::path out_dir =
@@ -99,12 +126,13 @@ fs::path output_dir(const PostOptions& opt) {
         throw InputError(fmt::format("-o {}: exists and is not a directory; give a directory "
                                      "for the outputs",
                                      out_dir.string()));
+    refuse_special_products(out_dir, fs::path(opt.file).stem().string());
     return out_dir;
 }
 
-/// From here on the run is recorded in the file, failed or not (ctx.on_exit runs after post()
-/// has returned or thrown, its read handle closed). A read-only file still gets its outputs;
-/// only the record is missing (warned).
+/// From here on the run is recorded in the file, unless refused (exit 2: the file stays byte for
+/// byte as it was); ctx.on_exit runs after post() has returned or thrown, its read handle closed. A
+/// read-only file still gets its outputs; only the record is missing (warned).
 void record_on_exit(const PostOptions& opt, Context& ctx) {
     if (::access(opt.file.c_str(), W_OK) != 0)
         ctx.log.warn("{}: read-only ({}): the outputs are written, but this run cannot be "
@@ -112,6 +140,8 @@ void record_on_exit(const PostOptions& opt, Context& ctx) {
                      opt.file, std::strerror(errno));
     else
         ctx.on_exit = [&opt, &ctx](int code) {
+            if (code == exit_input)
+                return; // a refusal (bad option, damaged or unsuitable file): the file unchanged
             try {
                 h5::File w(opt.file, h5::Mode::read_write);
                 store::append_provenance(w, ctx.run, code);

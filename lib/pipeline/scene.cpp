@@ -52,7 +52,11 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     try {
         root = json::parse(source_text, nullptr, true, /*ignore_comments=*/true);
     } catch (const json::parse_error& e) {
-        throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
+        // The place, never the bytes read (nlohmann's "; last read: '...'"): a file that is
+        // not a scene is not echoed.
+        std::string why = e.what();
+        why = why.substr(0, why.find("; last read"));
+        throw InputError(fmt::format("{}: not valid JSON (byte {}): {}", source, e.byte, why));
     } catch (const json::exception& e) { // out_of_range 406: a number like 1e999
         throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
     }

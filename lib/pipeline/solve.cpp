@@ -249,18 +249,24 @@ std::optional<run::Steps> count_steps(const SolveOptions& opt, Context& ctx, con
 /// Phase 2, rank 0 alone: prepare the file (metadata only, serial).
 void prepare_file(const SolveOptions& opt, Context& ctx, const Input& in, const solver::Solver& s,
                   SpaceReserve& reserve) {
-    // Provenance: by rank 0 alone, once the run's (parallel) file is closed. Set only now: a
-    // run refused by the checks before leaves the file as it was, byte for byte.
-    ctx.on_exit = [&ctx, file = opt.file](int code) {
+    // Rank 0 holds the file's lock from here to the end of its provenance record: the other
+    // ranks' shared holds (released as they leave, in any order) never make the record wait
+    // or fail, and no other tool can slip in between the run and its record.
+    auto held =
+        std::make_shared<FileLock>(ctx.rank == 0 ? FileLock::acquire(opt.file) : FileLock());
+    // 16 MB set aside beside the file (rank 0): freed when a write fails on a full disk, so the
+    // file still closes consistently with its last checkpoint (issue 13).
+    if (ctx.rank == 0)
+        reserve = SpaceReserve::create(opt.file, std::uint64_t{16} << 20);
+    // Provenance: by rank 0 alone, once the run's (parallel) file is closed. Set only now, as the
+    // run starts changing the file: a run refused before (a check, too little disk space) leaves
+    // the file as it was, byte for byte.
+    ctx.on_exit = [&ctx, file = opt.file, held](int code) {
         if (ctx.rank != 0)
             return;
         h5::File f(file, h5::Mode::read_write);
         store::append_provenance(f, ctx.run, code);
     };
-    // 16 MB set aside beside the file (rank 0): freed when a write fails on a full disk, so the
-    // file still closes consistently with its last checkpoint (issue 13).
-    if (ctx.rank == 0)
-        reserve = SpaceReserve::create(opt.file, std::uint64_t{16} << 20);
     ctx.errors_collective = false;
     if (ctx.rank == 0) {
         h5::File wf(opt.file, h5::Mode::read_write);
@@ -398,9 +404,8 @@ void report(const SolveOptions& opt, Context& ctx, const model::Model& m, solver
         if (ctx.rank == 0)
             ctx.log.warn("{}: stopped by {} after step {} of {} (t = {:.6g} s): checkpoint "
                          "written; continue with pd-solve --restart (exit {})",
-                         opt.file, out.stopped_by == SIGUSR1 ? "SIGUSR1" : "SIGTERM",
-                         out.stopped_at, st.total, s.state().time,
-                         static_cast<int>(exit_preempted));
+                         opt.file, run::stop_signal_name(out.stopped_by), out.stopped_at, st.total,
+                         s.state().time, static_cast<int>(exit_preempted));
     }
     ctx.log.info("done: steps {} to {}, {} frames in the file, {} contact-list rebuilds, {:.3g} "
                  "node-steps/s",

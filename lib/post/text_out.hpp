@@ -6,10 +6,12 @@
 #pragma once
 
 #include "core/errors.hpp"
+#include "core/files.hpp"
 
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <stdio.h> // fdopen
 #include <string>
 
 namespace pd::post {
@@ -21,7 +23,7 @@ class OutFile {
     explicit OutFile(const std::string& path)
         : path_(path)
         , tmp_(path + ".tmp")
-        , file_(std::fopen(tmp_.c_str(), "w"))
+        , file_(open_tmp(tmp_))
         , exceptions_(std::uncaught_exceptions()) {}
     OutFile(OutFile&& o) noexcept
         : path_(std::move(o.path_))
@@ -45,6 +47,13 @@ class OutFile {
     explicit operator bool() const { return file_ != nullptr; }
 
   private:
+    /// The temporary file, created exclusively: a link planted under its name is removed, never
+    /// followed (its target is not truncated).
+    static std::FILE* open_tmp(const std::string& tmp) {
+        const int fd = create_side_file(tmp);
+        return fd < 0 ? nullptr : ::fdopen(fd, "w");
+    }
+
     std::string path_, tmp_;
     std::FILE* file_;
     int exceptions_;

@@ -4,6 +4,7 @@
 #include "post/vtk_export.hpp"
 
 #include "core/errors.hpp"
+#include "core/files.hpp"
 #include "h5/file.hpp"
 #include "post/text_out.hpp"
 #include "post/vtk_export_walls.hpp"
@@ -25,9 +26,12 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
+#include <unistd.h>
 #include <vector>
 
 namespace pd::post {
@@ -39,6 +43,12 @@ namespace {
 /// (measured: a 0-byte .vtu), so its error code and the written size are checked as well.
 void write_vtu(vtkXMLUnstructuredGridWriter& writer, const std::string& path) {
     const std::string tmp = path + ".tmp";
+    // Created here exclusively (a link planted under the name is removed, never followed); VTK
+    // then writes into this regular file.
+    if (const int fd = create_side_file(tmp); fd >= 0)
+        ::close(fd);
+    else
+        throw InputError(fmt::format("{}: cannot create {}: {}", path, tmp, std::strerror(errno)));
     writer.SetFileName(tmp.c_str());
     std::error_code ec;
     const bool ok = writer.Write() == 1 && writer.GetErrorCode() == vtkErrorCode::NoError &&

@@ -166,6 +166,38 @@ void read_nodes(const h5::File& f, model::Model& m) {
                                 i, m.nodes.body[static_cast<std::size_t>(i)], k));
 }
 
+/// Each bond once in each direction: a row holds no node twice and not its own node, and j in
+/// the row of i means i in the row of j. An asymmetric or duplicated bond breaks Newton's third
+/// law (the momentum drifts) or counts one pair twice; pd-pack never writes either.
+void check_bond_pairs(const h5::File& f, const model::Bonds& b) {
+    const std::string p = std::string(path::bonds) + "/neighbor";
+    std::vector<std::int32_t> sorted(b.neighbor.begin(), b.neighbor.end());
+    const std::size_t n = b.offsets.size() - 1;
+    auto row = [&](std::size_t i) {
+        return std::pair{sorted.begin() + b.offsets[i], sorted.begin() + b.offsets[i + 1]};
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        auto [lo, hi] = row(i);
+        std::sort(lo, hi);
+        if (const auto d = std::adjacent_find(lo, hi); d != hi)
+            throw SchemaError(
+                f.name(), p, fmt::format("node {} lists node {} twice (a duplicated bond)", i, *d));
+        if (std::binary_search(lo, hi, static_cast<std::int32_t>(i)))
+            throw SchemaError(f.name(), p, fmt::format("node {} is bonded to itself", i));
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto [lo, hi] = row(i);
+        for (auto it = lo; it != hi; ++it) {
+            const auto [jl, jh] = row(static_cast<std::size_t>(*it));
+            if (!std::binary_search(jl, jh, static_cast<std::int32_t>(i)))
+                throw SchemaError(f.name(), p,
+                                  fmt::format("node {} is bonded to node {}, but node {} not to "
+                                              "node {} (an asymmetric bond)",
+                                              i, *it, *it, i));
+        }
+    }
+}
+
 /// /bonds (the neighbours only with `neighbors`).
 void read_bonds(const h5::File& f, model::Model& m, bool neighbors) {
     const std::uint64_t n = m.nodes.volume.size();
@@ -184,6 +216,7 @@ void read_bonds(const h5::File& f, model::Model& m, bool neighbors) {
         m.bonds.neighbor = get<std::int32_t>(f, bo + "/neighbor", {0});
         require_range<std::int32_t>(f, bo + "/neighbor", m.bonds.neighbor, 0,
                                     static_cast<std::int32_t>(n));
+        check_bond_pairs(f, m.bonds);
     }
 }
 
@@ -306,6 +339,13 @@ void read_walls(const h5::File& f, model::Model& m) {
     }
 }
 
+/// A node listed twice in a condition would get the load twice (a force density 8 x over).
+void refuse_repeated_nodes(const h5::File& f, const std::string& p, std::vector<std::int32_t> v) {
+    std::sort(v.begin(), v.end());
+    if (const auto d = std::adjacent_find(v.begin(), v.end()); d != v.end())
+        throw SchemaError(f.name(), p, fmt::format("node {} is listed more than once", *d));
+}
+
 /// Gravity, damping and the node conditions.
 void read_loading(const h5::File& f, model::Model& m) {
     const std::uint64_t n = m.nodes.volume.size();
@@ -332,6 +372,7 @@ void read_loading(const h5::File& f, model::Model& m) {
             c.space_fn = static_cast<model::SpaceFn>(sf);
             c.nodes = get<std::int32_t>(f, gc + "/nodes", {0});
             require_range<std::int32_t>(f, gc + "/nodes", c.nodes, 0, static_cast<std::int32_t>(n));
+            refuse_repeated_nodes(f, gc + "/nodes", c.nodes);
             c.amplitude = get_scalar<double>(f, gc + "/amplitude");
             auto p = get<double>(f, gc + "/parameters", {4});
             c.params = {p[0], p[1], p[2], p[3]};

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""Prints the size of the bad-input matrix (test_safety.py + test_matrix.py) per tool."""
+"""Prints the size of the bad-input matrix (test_safety.py + test_matrix.py + test_outputs.py) per
+tool."""
 import collections
 
 
@@ -18,7 +19,8 @@ def pytest_terminal_summary(terminalreporter):
         for rep in terminalreporter.stats.get(key, []):
             if rep.when != "call" and key != "skipped":
                 continue
-            if "test_safety.py" in rep.nodeid or "test_matrix.py" in rep.nodeid:
+            if any(f in rep.nodeid for f in ("test_safety.py", "test_matrix.py",
+                                             "test_outputs.py")):
                 counts[_tool(rep.nodeid)] += 1
                 passed += key == "passed"
     if counts:

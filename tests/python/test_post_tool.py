@@ -50,15 +50,18 @@ def test_no_vtu_no_csv(pd_post, synthetic_file, tmp_path, flag, present, absent)
         assert not (out / name).exists(), name
 
 
-def test_failure_is_recorded(pd_post, synthetic_file, tmp_path):
+def test_refusal_is_not_recorded(pd_post, synthetic_file, tmp_path):
+    """A refusal (exit 2) leaves the file byte for byte: no /provenance entry (issue 27)."""
     bad = tmp_path / "bad.h5"
     shutil.copyfile(synthetic_file, bad)
     with h5py.File(bad, "a") as f:
         del f["nodes/volume"]
+    before = provenance(bad)
+    data = open(bad, "rb").read()
     r = run(pd_post, bad, "-o", tmp_path / "out")
     assert r.returncode == 2
     assert "/nodes/volume" in r.stderr and str(bad) in r.stderr
-    assert provenance(bad)[-1][1:] == ("pd-post", 2)
+    assert provenance(bad) == before and open(bad, "rb").read() == data
 
 
 def test_check_writes_nothing(pd_post, synthetic_file):

@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
                                "print the resolved scene (overrides applied, comments removed) "
                                "as plain JSON to stdout and exit");
     out->excludes(print);
+    app.add_flag("--overwrite", opt.overwrite,
+                 "let -o replace a pd-file that holds the results of a run (frames, "
+                 "observables, checkpoints)");
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
     auto* max_nodes = app.add_option("--max-nodes", opt.max_nodes,
                                      "refuse a scene estimated (before meshing or packing) above "

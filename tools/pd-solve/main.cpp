@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
                    "also checkpoint when this much wall time (s) has passed since the last "
                    "checkpoint (default 600; 0 = only the scene's checkpoint_interval and the end)")
         ->check(CLI::NonNegativeNumber);
-    app.footer("On SIGTERM or SIGUSR1 (Slurm: before the wall-time limit, on pre-emption) pd-solve "
+    app.footer("On SIGTERM or SIGUSR1 (Slurm: before the wall-time limit, on pre-emption), SIGINT "
+               "(Ctrl-C) or SIGHUP (terminal closed) pd-solve "
                "finishes the current step, writes a checkpoint, records exit status 75 in "
                "/provenance and exits with 75; continue with --restart (bit for bit).\n"
                "Exit codes: 0 ok, 2 bad input, 3 numerical failure, 4 internal error, 75 stopped "

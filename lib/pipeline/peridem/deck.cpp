@@ -38,6 +38,19 @@ double num_or(const YAML::Node& parent, const std::string& where, const std::str
     return n ? num(n, dot(where, key)) : fallback;
 }
 
+int int_of(const YAML::Node& n, const std::string& key, int lo, int hi) {
+    const double d = num(n, key);
+    if (d != std::floor(d) || d < lo || d > hi)
+        throw ConfigError(key, fmt::format("{}: expected an integer from {} to {}", d, lo, hi));
+    return static_cast<int>(d);
+}
+
+int int_or(const YAML::Node& parent, const std::string& where, const std::string& key, int fallback,
+           int lo, int hi) {
+    auto n = child(parent, key);
+    return n ? int_of(n, dot(where, key), lo, hi) : fallback;
+}
+
 bool flag_or(const YAML::Node& parent, const std::string& where, const std::string& key,
              bool fallback) {
     auto n = child(parent, key);

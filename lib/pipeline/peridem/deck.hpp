@@ -34,6 +34,12 @@ double num(const YAML::Node& n, const std::string& key);
 
 double num_or(const YAML::Node& parent, const std::string& where, const std::string& key,
               double fallback);
+/// An integer in [lo, hi] (`key` in `where`, or `fallback` if absent), checked before any cast:
+/// 1e12, 2.5 or -3 where a count or an index is expected is refused naming the key.
+int int_or(const YAML::Node& parent, const std::string& where, const std::string& key, int fallback,
+           int lo, int hi);
+/// The same for a node that is there (`key` is its full name).
+int int_of(const YAML::Node& n, const std::string& key, int lo, int hi);
 
 bool flag_or(const YAML::Node& parent, const std::string& where, const std::string& key,
              bool fallback);

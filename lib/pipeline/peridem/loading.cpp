@@ -76,7 +76,7 @@ struct LoadingReader {
         const YAML::Node b = R[block];
         if (!b)
             return;
-        const int n = static_cast<int>(num_or(b, block, "Sets", 0));
+        const int n = int_or(b, block, "Sets", 0, 0, 100000);
         for (int k = 1; k <= n; ++k)
             one_set(b, block, force, k);
     }
@@ -87,7 +87,7 @@ struct LoadingReader {
         const auto& zones = im.zones;
         auto& parts = im.parts;
         json& conditions = im.conditions;
-        const int n = static_cast<int>(num_or(b, block, "Sets", 0));
+        const int n = int_or(b, block, "Sets", 0, 0, 100000);
         const std::string w = fmt::format("{}.Set_{}", block, k);
         const YAML::Node s = b[fmt::format("Set_{}", k)];
         if (!s)

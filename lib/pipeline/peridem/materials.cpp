@@ -86,7 +86,7 @@ struct MaterialReader {
         if (!mn)
             throw ConfigError(w, "missing: every zone needs a material");
         if (auto c = child(mn, "Copy_Material_Data")) {
-            const int from = static_cast<int>(num(c, w + ".Copy_Material_Data"));
+            const int from = int_of(c, w + ".Copy_Material_Data", 1, k - 1);
             if (from < 1 || from >= k)
                 throw ConfigError(w + ".Copy_Material_Data",
                                   fmt::format("{} is not an earlier zone", from));
@@ -98,6 +98,9 @@ struct MaterialReader {
         if (!(rho > 0))
             throw ConfigError(w + ".Density", "missing or not positive (required)");
         const auto [E, K, G, nu, has_nu] = elastic_constants(mn, w, law, log);
+        if (auto g = child(mn, "Gc"); g && !(num(g, w + ".Gc") > 0))
+            throw ConfigError(w + ".Gc", "must be > 0 (J/m2); leave it out for an unbreakable "
+                                         "material");
         double Gc = num_or(mn, w, "Gc", -1);
         if (Gc < 0 && child(mn, "KIc")) {
             const double kic = num_or(mn, w, "KIc", 0);
@@ -196,8 +199,8 @@ struct MaterialReader {
 
     void influence(const YAML::Node& mn, const std::string& w, const std::string& law, json& m) {
         const Log& log = im.log;
-        const int inf = static_cast<int>(
-            num_or(child(mn, "Influence_Function"), w + ".Influence_Function", "Type", 0));
+        const int inf =
+            int_or(child(mn, "Influence_Function"), w + ".Influence_Function", "Type", 0, 0, 2);
         if (inf < 0 || inf > 2)
             throw ConfigError(
                 w + ".Influence_Function.Type",

@@ -14,7 +14,7 @@ void read_model(Import& im) {
     const YAML::Node model = R["Model"];
     if (!model)
         throw ConfigError("Model", "missing (required)");
-    const int dim = static_cast<int>(num_or(model, "Model", "Dimension", 0));
+    const int dim = int_or(model, "Model", "Dimension", 0, 0, 3);
     if (dim != 2 && dim != 3)
         throw ConfigError("Model.Dimension", "expected 2 or 3 (required)");
     const double final_time = num_or(model, "Model", "Final_Time", 0);
@@ -57,7 +57,7 @@ void read_zones(Import& im) {
     auto& zones = im.zones;
     // ---- Zones
     const bool old_format = static_cast<bool>(R["Wall"]);
-    int nz = static_cast<int>(num_or(R["Zone"], "Zone", "Zones", 0));
+    int nz = int_or(R["Zone"], "Zone", "Zones", 0, 0, 100000);
     if (nz <= 0) {
         const YAML::Node mat = R["Material"];
         if (mat && mat.IsMap())

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/errors.hpp"
+#include "core/files.hpp"
 #include "pipeline/peridem/import.hpp"
 
 #include <algorithm>
@@ -32,6 +33,7 @@ void read_csv(const Import& im, std::vector<std::array<double, 6>>& rows, bool& 
                               "'" + type + "': expected loc_rad or loc_rad_orient");
         with_orient = type == "loc_rad_orient";
         const auto file = deck_file(d, csv_key, str_or(pg, "Particle_Generation", "From_File", ""));
+        note_input(csv_key, file);
         std::ifstream in(file);
         if (!in)
             throw ConfigError(csv_key, file + ": cannot read");

@@ -2,6 +2,7 @@
 #include "pipeline/run/signals.hpp"
 
 #include <csignal>
+#include <initializer_list>
 
 namespace pd::pipeline::run {
 
@@ -21,8 +22,23 @@ StopSignals::StopSignals() {
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESTART;
-    sigaction(SIGTERM, &sa, nullptr);
-    sigaction(SIGUSR1, &sa, nullptr);
+    // SIGINT (Ctrl-C) and SIGHUP (the terminal or ssh session closed) stop the run the same way:
+    // their default action killed it with no checkpoint and no provenance.
+    for (int sig : {SIGTERM, SIGUSR1, SIGINT, SIGHUP})
+        sigaction(sig, &sa, nullptr);
+}
+
+const char* stop_signal_name(int sig) {
+    switch (sig) {
+    case SIGUSR1:
+        return "SIGUSR1";
+    case SIGINT:
+        return "SIGINT";
+    case SIGHUP:
+        return "SIGHUP";
+    default:
+        return "SIGTERM";
+    }
 }
 
 int stop_signal() {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Pre-emption: SIGTERM or SIGUSR1 (Slurm before the wall-time limit, or on pre-emption) asks the
-// run to stop. The poll action sees the request, the ranks agree on the step, the checkpoint
-// action writes a checkpoint and the stop action ends the loop: exit_preempted (75).
+// Pre-emption: SIGTERM or SIGUSR1 (Slurm before the wall-time limit, or on pre-emption), SIGINT
+// (Ctrl-C) or SIGHUP (the terminal closed) asks the run to stop. The poll action sees the request,
+// the ranks agree on the step, the checkpoint action writes a checkpoint and the stop action ends
+// the loop: exit_preempted (75).
 #pragma once
 
 #include <csignal>
@@ -21,5 +22,8 @@ class StopSignals {
 
 /// The signal received since the handlers were installed, or 0.
 int stop_signal();
+
+/// "SIGTERM", "SIGUSR1", "SIGINT" or "SIGHUP".
+const char* stop_signal_name(int sig);
 
 } // namespace pd::pipeline::run

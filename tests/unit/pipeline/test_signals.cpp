@@ -20,3 +20,15 @@ TEST(StopSignals, ASignalAfterTheSolveIsRecordedNotFatal) {
     const pd::pipeline::run::StopSignals again; // a new solve starts with no request
     EXPECT_EQ(pd::pipeline::run::stop_signal(), 0);
 }
+
+TEST(StopSignals, InterruptAndHangUpStopLikeTerm) {
+    // Ctrl-C and a closed terminal used to kill pd-solve with no checkpoint (issue 27).
+    const pd::pipeline::run::StopSignals handlers;
+    for (int sig : {SIGINT, SIGHUP, SIGTERM, SIGUSR1}) {
+        std::raise(sig);
+        EXPECT_EQ(pd::pipeline::run::stop_signal(), sig);
+    }
+    EXPECT_STREQ(pd::pipeline::run::stop_signal_name(SIGINT), "SIGINT");
+    EXPECT_STREQ(pd::pipeline::run::stop_signal_name(SIGHUP), "SIGHUP");
+    EXPECT_STREQ(pd::pipeline::run::stop_signal_name(SIGTERM), "SIGTERM");
+}
