@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
                                "print the resolved scene (overrides applied, comments removed) "
                                "as plain JSON to stdout and exit");
     out->excludes(print);
+    app.add_flag("--defaults", opt.defaults,
+                 "with --print-scene: fill in every default the scene leaves out "
+                 "(data-schema/scene.schema.json)")
+        ->needs(print);
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
     auto* max_nodes = app.add_option("--max-nodes", opt.max_nodes,
                                      "refuse a scene estimated (before meshing or packing) above "
