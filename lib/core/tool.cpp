@@ -4,10 +4,12 @@
 #include "core/errors.hpp"
 #include "core/files.hpp"
 #include "core/mpi.hpp"
+#include "core/threads.hpp"
 #include "core/version.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <ctime>
 #include <exception>
 #include <filesystem>
@@ -70,6 +72,20 @@ void check_output_file(const std::string& option, const std::string& path,
 }
 
 namespace {
+/// The ranks of this run on this rank's machine (1 without MPI).
+int ranks_on_node(const mpi::Session& session) {
+    int init = 0;
+    MPI_Initialized(&init);
+    if (session.size() <= 1 || !init)
+        return 1;
+    MPI_Comm node;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, session.rank(), MPI_INFO_NULL, &node);
+    int n = 1;
+    MPI_Comm_size(node, &n);
+    MPI_Comm_free(&node);
+    return n;
+}
+
 /// An error every rank raised alike is reported once, by rank 0.
 void report(const Context& ctx, const std::exception& e) {
     if (ctx.rank == 0 || !ctx.errors_collective)
@@ -79,6 +95,8 @@ void report(const Context& ctx, const std::exception& e) {
 
 int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions& opt,
              const std::function<void(Context&)>& body) {
+    // Idle OpenMP threads sleep rather than spin (a re-exec when the environment must change).
+    threads::passive_wait(argv);
     mpi::Session session(&argc, &argv);
     Verbosity v = opt.quiet ? Verbosity::quiet : opt.verbose ? Verbosity::debug : Verbosity::normal;
     Context ctx{Log(tool, session.rank(), v), {}, session.rank(), session.size(), {}};
@@ -90,7 +108,16 @@ int run_tool(const std::string& tool, int argc, char** argv, const CommonOptions
     ctx.run.start_time = utc_now();
     ctx.run.mpi_ranks = session.size();
 #ifdef _OPENMP
+    if (std::getenv("OMP_NUM_THREADS") == nullptr) {
+        const auto choice = threads::default_threads(threads::machine(ranks_on_node(session)));
+        omp_set_num_threads(choice.threads);
+        ctx.run.threads_why = choice.why;
+    } else {
+        ctx.run.threads_why = fmt::format("OMP_NUM_THREADS={}", std::getenv("OMP_NUM_THREADS"));
+    }
     ctx.run.threads = omp_get_max_threads();
+    if (ctx.run.threads > 1 || std::getenv("OMP_WAIT_POLICY") != nullptr)
+        ctx.run.threads_why += ", OpenMP wait " + threads::wait_policy();
 #endif
     int code = exit_ok;
     try {

@@ -44,6 +44,8 @@ struct RunInfo {
     std::string start_time; ///< ISO 8601, UTC
     int mpi_ranks = 1;
     int threads = 1;
+    /// How the thread count was chosen and the OpenMP wait policy (printed by pd-solve).
+    std::string threads_why;
     /// pd-pack --set: the scene overrides as a JSON object (path -> value); empty if none.
     std::string overrides;
 };

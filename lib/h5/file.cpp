@@ -108,6 +108,12 @@ File::File(const std::string& name, Mode mode, const void* mpi_comm)
     };
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
     xfer_ = Handle(H5Pcreate(H5P_DATASET_XFER));
+    // A writer takes no HDF5 file lock (pdgrain's own lock above keeps a second pdgrain writer
+    // out): h5py and other readers can open the file while pd-solve writes it (issue 28; HDF5
+    // 1.10 locks the whole file for a writer, "unable to lock file, errno = 11"). Each frame is
+    // flushed whole; README "Watching a run" gives the reader's way.
+    if (mode != Mode::read && H5Pset_file_locking(fapl.get(), false, true) < 0)
+        fail("/", "cannot set the file locking property");
     if (mpi_comm) {
         MPI_Comm comm = *static_cast<const MPI_Comm*>(mpi_comm);
         MPI_Comm_rank(comm, &rank_);

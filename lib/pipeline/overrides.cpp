@@ -160,4 +160,85 @@ Resolved apply_overrides(const std::string& text, const std::string& source,
     return r;
 }
 
+namespace {
+
+/// A key not filled while one of these is present (it would replace or contradict them).
+bool replaced(const json& obj, const std::string& key) {
+    auto has = [&](const char* k) { return obj.contains(k); };
+    if (key == "radius_factor")
+        return has("radius") || has("radius_mesh_factor");
+    if (key == "fracture_energy")
+        return has("fracture_toughness");
+    if (key == "stiffness_factor")
+        return has("stiffness") && obj["stiffness"].is_number();
+    return false;
+}
+
+const json& deref(const json& s, const json& root) {
+    if (s.is_object() && s.contains("$ref") && s["$ref"].is_string()) {
+        const std::string ref = s["$ref"];
+        if (ref.rfind("#", 0) == 0)
+            return deref(root.at(json::json_pointer(ref.substr(1))), root);
+    }
+    return s;
+}
+
+/// The branch of a oneOf that `v` takes: the first whose required keys `v` has and, when it
+/// admits no other keys, whose properties hold every key of `v` (nullptr: none).
+const json* branch(const json& v, const json& one_of, const json& root) {
+    for (const auto& b0 : one_of) {
+        const json& b = deref(b0, root);
+        if (!b.is_object() || !v.is_object())
+            continue;
+        bool ok = true;
+        if (b.contains("required"))
+            for (const auto& k : b["required"])
+                ok = ok && v.contains(k.get<std::string>());
+        if (ok && b.contains("additionalProperties") && b["additionalProperties"] == false &&
+            b.contains("properties"))
+            for (const auto& [k, x] : v.items())
+                ok = ok && b["properties"].contains(k);
+        if (ok)
+            return &b;
+    }
+    return nullptr;
+}
+
+void fill(json& v, const json& schema, const json& root, const std::string& where) {
+    const json* sp = &deref(schema, root);
+    if (sp->is_object() && sp->contains("oneOf") && v.is_object())
+        if (const json* b = branch(v, (*sp)["oneOf"], root))
+            sp = b;
+    const json& s = *sp;
+    if (!s.is_object() || where == "/contact/pairs")
+        return;
+    if (v.is_object()) {
+        const json none = json::object();
+        const json& props = s.contains("properties") ? s["properties"] : none;
+        for (const auto& [k, ps] : props.items()) {
+            const json& p = deref(ps, root);
+            if (!v.contains(k) && p.is_object() && p.contains("default") && !replaced(v, k))
+                v[k] = p["default"];
+            if (v.contains(k))
+                fill(v[k], p, root, where + "/" + k);
+        }
+        if (s.contains("additionalProperties") && s["additionalProperties"].is_object())
+            for (auto& [k, x] : v.items())
+                if (!props.contains(k))
+                    fill(x, s["additionalProperties"], root, where + "/" + k);
+    } else if (v.is_array() && s.contains("items") && s["items"].is_object()) {
+        for (auto& x : v)
+            fill(x, s["items"], root, where);
+    }
+}
+
+} // namespace
+
+std::string fill_defaults(const std::string& scene, const std::string& schema) {
+    json v = json::parse(scene);
+    const json root = json::parse(schema);
+    fill(v, root, root, "");
+    return v.dump(2);
+}
+
 } // namespace pd::pipeline

@@ -22,4 +22,13 @@ struct Resolved {
 Resolved apply_overrides(const std::string& text, const std::string& source,
                          const std::vector<std::string>& sets);
 
+/// pd-pack --print-scene --defaults: `scene` (plain JSON) with every default of `schema` (the
+/// text of data-schema/scene.schema.json) filled in where the key is absent: the properties'
+/// "default" values, through $ref, objects, arrays and maps. Not filled: a key another given key
+/// replaces (radius_factor beside radius or radius_mesh_factor, fracture_energy beside
+/// fracture_toughness, stiffness_factor beside a numeric stiffness) and contact.pairs (they
+/// inherit the top-level contact). A oneOf (particles) takes the first branch the entry fits.
+/// Returns plain JSON, indented.
+std::string fill_defaults(const std::string& scene, const std::string& schema);
+
 } // namespace pd::pipeline

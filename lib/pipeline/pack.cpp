@@ -28,9 +28,9 @@ namespace pd::pipeline {
 namespace {
 
 /// workflows/preview/preview.py: PD_SOURCE_DIR, else up from the executable (build*/bin/pd-pack).
-std::string preview_script() {
+/// A file of the source tree: under PD_SOURCE_DIR, else above this executable.
+std::string source_file(const std::string& option, const std::string& rel) {
     namespace fs = std::filesystem;
-    const std::string rel = "workflows/preview/preview.py";
     if (const char* s = std::getenv("PD_SOURCE_DIR"); s && fs::is_regular_file(fs::path(s) / rel))
         return (fs::path(s) / rel).string();
     std::error_code ec;
@@ -38,7 +38,11 @@ std::string preview_script() {
     for (auto p = exe.parent_path(); !ec && !p.empty() && p != p.root_path(); p = p.parent_path())
         if (fs::is_regular_file(p / rel))
             return (p / rel).string();
-    throw InputError("--preview: cannot find " + rel + " (set PD_SOURCE_DIR to the source tree)");
+    throw InputError(option + ": cannot find " + rel + " (set PD_SOURCE_DIR to the source tree)");
+}
+
+std::string preview_script() {
+    return source_file("--preview", "workflows/preview/preview.py");
 }
 
 std::string quote(const std::string& s) {
@@ -191,6 +195,13 @@ void pack(const PackOptions& opt, Context& ctx) {
         text = std::move(r.scene);
         ctx.run.overrides = std::move(r.overrides);
         if (opt.print_scene) {
+            if (opt.defaults) {
+                const auto path = source_file("--defaults", "data-schema/scene.schema.json");
+                std::ifstream in(path);
+                std::stringstream schema;
+                schema << in.rdbuf();
+                text = fill_defaults(text, schema.str());
+            }
             std::fputs((text + "\n").c_str(), stdout);
             return;
         }

@@ -20,6 +20,7 @@ struct PackOptions {
     std::string preview;           ///< if set, a PNG of the scene (workflows/preview/preview.py)
     std::vector<std::string> sets; ///< --set PATH=VALUE scene overrides (pipeline/overrides.hpp)
     bool print_scene = false;      ///< print the resolved scene (plain JSON) to stdout, no file
+    bool defaults = false;         ///< with print_scene: every default filled in (the schema's)
     double max_nodes = 0; ///< refuse scenes estimated above this many nodes (before meshing);
                           ///< 0: what fits in the available memory (pipeline/resources.hpp)
     bool max_nodes_given = false; ///< --max-nodes was given (then it must be >= 1)

@@ -428,6 +428,8 @@ void report(const SolveOptions& opt, Context& ctx, const model::Model& m, solver
 void solve(const SolveOptions& opt, Context& ctx) {
     const double wall0 = wall_seconds();
     const run::StopSignals stop_signals;
+    ctx.log.info("{} rank{} x {} thread{} ({})", ctx.size, ctx.size == 1 ? "" : "s",
+                 ctx.run.threads, ctx.run.threads == 1 ? "" : "s", ctx.run.threads_why);
     // Open.
     Input in = open(opt, ctx);
     // Set up.

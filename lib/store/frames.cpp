@@ -126,6 +126,12 @@ void FrameWriter::write(std::int64_t step, double time,
     ++frames_;
 }
 
+void FrameWriter::flag_failed(std::int64_t step, const std::string& failure) {
+    f_.set_attr(path::particles, "failed_step", step);
+    f_.set_attr(path::particles, "failure", failure);
+    f_.flush();
+}
+
 FrameReader::FrameReader(const h5::File& f)
     : f_(f) {
     const std::string pos = field_path("position");
@@ -400,6 +406,11 @@ void truncate_after(h5::File& f, std::int64_t step) {
     for (const auto& fi : frame_fields())
         fv.push_back(field_path(fi.name) + "/value");
     cut(field_path("position"), fv);
+    // A failed run's flagged last frame is gone with the frames after the checkpoint.
+    if (f.exists(path::particles) && f.has_attr(path::particles, "failed_step")) {
+        f.set_attr(path::particles, "failed_step", std::int64_t{-1});
+        f.set_attr(path::particles, "failure", std::string{"none"});
+    }
     std::vector<std::string> ov;
     for (const auto& o : observable_list())
         ov.push_back(O + "/" + o.name + "/value");

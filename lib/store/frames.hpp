@@ -44,6 +44,10 @@ class FrameWriter {
                const std::map<std::string, std::span<const double>>& data);
     std::size_t frames() const { return frames_; }
     const std::vector<std::string>& fields() const { return fields_; }
+    /// Flags the last frame written as the state at a failing step (a guard's exit 3): the
+    /// attributes failed_step (the step) and failure (what failed, e.g. "interpenetration") of
+    /// /particles/nodes. Collective under MPI-IO (every rank the same values).
+    void flag_failed(std::int64_t step, const std::string& failure);
 
   private:
     h5::File& f_;

@@ -310,3 +310,17 @@ def test_parity_breaks_bonds_in_compression(pd_pack, shared_dir, tmp_path):
         "materials"]["zone_1"]
     with h5py.File(tmp_path / "d.h5", "r") as f:
         assert f["materials/zone_1/break_in_compression"][()] == 0
+
+
+def test_kn_zero_and_wall_pairs_mean_no_contact(pd_pack, shared_dir, tmp_path):
+    """Issue 28: a deck's Kn 0 is no contact (PeriDEM applies no force), not "auto", and two wall
+    zones never interact (PeriDEM skips wall-wall pairs): compression_small_set's container
+    (zone 9) and plate (zone 10) had pushed on each other from step 0 (Zone_99 Kn 0, Zone_910 a
+    copy of it)."""
+    f, scene = imported(pd_pack, shared_dir, tmp_path, "compression_small_set")
+    pairs = {tuple(p["groups"]): p for p in scene["contact"]["pairs"]}
+    for g in [(8, 8), (8, 9), (9, 9)]:
+        assert pairs[g]["stiffness"] == 0, g
+    assert all(p["stiffness"] == "auto" or p["stiffness"] > 0
+               for g, p in pairs.items() if max(g) < 8)
+    f.close()

@@ -78,3 +78,44 @@ def test_overrides_recorded_in_the_file(pd_pack, tmp_path):
     with h5py.File(plain, "r") as h:
         assert "overrides" not in h["parameters"]
         assert "overrides" not in h["provenance"][sorted(h["provenance"])[-1]].attrs
+
+
+@pytest.mark.parametrize("example", ["two_discs/scene.json", "attrition_sim1/scene.json",
+                                     "ellipse_on_tip/scene_pmb.json"])
+def test_print_scene_defaults_fills_every_default_and_packs_the_same(pd_pack, tmp_path,
+                                                                     example):
+    """--print-scene --defaults (issue 28): the schema's defaults the scene leaves out appear
+    (solver.dt_safety, contact.friction, materials' law, ...), what the scene gives is kept, and
+    the printed scene packs to the same file as the scene (nodes, bonds, contact table, solver
+    settings)."""
+    scene = REPO / "examples" / example
+    plain = json.loads(run(pd_pack, scene, "--print-scene").stdout)
+    r = run(pd_pack, scene, "--print-scene", "--defaults")
+    assert r.returncode == 0, r.stderr
+    full = json.loads(r.stdout)
+    assert full["solver"]["dt_safety"] == plain["solver"].get("dt_safety", 0.85)
+    assert full["solver"]["integrator"] == plain["solver"].get("integrator", "velocity_verlet")
+    assert full["solver"]["observe_every"] == plain["solver"].get("observe_every", 10)
+    assert "friction" in full["contact"] and "restitution" in full["contact"]
+    assert all("law" in m for m in full["materials"].values())
+    for k, v in plain["solver"].items():
+        assert full["solver"][k] == v  # the scene's own values are kept
+    filled = tmp_path / "filled.json"
+    filled.write_text(r.stdout)
+    a, b = tmp_path / "a.h5", tmp_path / "b.h5"
+    assert run(pd_pack, scene, "-q", "-o", a).returncode == 0
+    rb = run(pd_pack, filled, "-q", "-o", b)
+    assert rb.returncode == 0, rb.stderr
+    with h5py.File(a, "r") as fa, h5py.File(b, "r") as fb:
+        for p in ["nodes/position", "bonds/offsets", "bonds/neighbor"]:
+            if p in fa:
+                assert (fa[p][...] == fb[p][...]).all(), p
+        for g in ["contact", "solver"]:
+            for k in fa[g]:
+                if isinstance(fa[g][k], h5py.Dataset):
+                    assert (fa[g][k][...] == fb[g][k][...]).all(), f"{g}/{k}"
+
+
+def test_defaults_needs_print_scene(pd_pack, tmp_path):
+    r = run(pd_pack, SCENE, "--defaults", "-o", tmp_path / "x.h5")
+    assert r.returncode == 2

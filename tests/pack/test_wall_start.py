@@ -46,3 +46,43 @@ def test_wall_start_warning_follows_the_pair_law(pd_pack, tmp_path):
     assert only0 > 0 and only1 > 0 and only0 + only1 == both
     assert warned(pd_pack, tmp_path, "none", [{"groups": [0, 2], "stiffness": 0},
                                               {"groups": [1, 2], "stiffness": 0}]) == 0
+
+
+def test_preview_draws_a_wall_that_enters_later_dashed(pd_pack, tmp_path):
+    """Issue 28: the preview draws a wall with start_time > 0 dashed and labelled (it is not
+    there at t = 0), the others solid."""
+    import sys
+
+    import matplotlib
+    matplotlib.use("Agg")
+    from conftest import REPO
+    sys.path.insert(0, str(REPO / "workflows" / "preview"))
+    import preview
+
+    sc = scene([])
+    sc["walls"] = [{"name": "floor", "type": "plane", "point": [0, -2e-3], "normal": [0, 1]},
+                   {"name": "plate", "type": "plane", "point": [0, 2e-3], "normal": [0, -1],
+                    "velocity": [0, -0.1], "start_time": 5e-6}]
+    sc["contact"] = {"radius_mesh_factor": 3}
+    path = tmp_path / "two_walls.json"
+    path.write_text(json.dumps(sc))
+    h5 = tmp_path / "two_walls.h5"
+    r = run(pd_pack, path, "-o", h5, "-q")
+    assert r.returncode == 0, r.stderr
+    import matplotlib.pyplot as plt
+    drawn = []
+    real_close = plt.close
+    plt.close = lambda fig=None: drawn.append(fig) or real_close(fig)
+    try:
+        preview.draw(str(h5), str(tmp_path / "p.png"))
+    finally:
+        plt.close = real_close
+    ax = drawn[-1].axes[0]
+    from matplotlib.collections import LineCollection
+    styles = [c.get_linestyle()[0] for c in ax.collections if isinstance(c, LineCollection)
+              and len(c.get_segments()) == 1]
+    solid = [s for s in styles if s[1] is None]
+    dashed = [s for s in styles if s[1] is not None]
+    assert len(solid) == 1 and len(dashed) == 1, styles
+    assert any("enters at t = 5e-06 s" in t.get_text() for t in ax.texts)
+    assert (tmp_path / "p.png").stat().st_size > 0

@@ -67,8 +67,11 @@ def test_blow_up_exits_3_and_keeps_the_last_good_frame(tmp_path):
     assert "node" in r.stderr and "body" in r.stderr
     with h5py.File(f, "r") as h:
         pos = h["particles/nodes/position/value"]
-        assert pos.shape[0] >= 1
-        assert np.isfinite(pos[-1]).all()  # the frames in the file are the good ones
+        assert pos.shape[0] >= 2
+        # The last frame is the failing state, flagged (issue 28); the frames before are good.
+        nodes = h["particles/nodes"]
+        assert nodes.attrs["failed_step"] == nodes["position/step"][-1]
+        assert np.isfinite(pos[-2]).all()
         assert h["provenance"][sorted(h["provenance"])[-1]].attrs["exit_status"] == 3
 
 

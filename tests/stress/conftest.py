@@ -16,6 +16,8 @@ import pytest
 
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+# check_run.py, the checker of every run (a user-facing script since issue 28)
+sys.path.insert(0, str(HERE.parents[1] / "workflows" / "analysis"))
 
 ROWS = []  # (scene, exit code, seconds, [(check, ok, value, bound)], verdict)
 

@@ -35,6 +35,10 @@ int main(int argc, char** argv) {
     app.add_flag("--overwrite", opt.overwrite,
                  "let -o replace a pd-file that holds the results of a run (frames, "
                  "observables, checkpoints)");
+    app.add_flag("--defaults", opt.defaults,
+                 "with --print-scene: fill in every default the scene leaves out "
+                 "(data-schema/scene.schema.json)")
+        ->needs(print);
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
     auto* max_nodes = app.add_option("--max-nodes", opt.max_nodes,
                                      "refuse a scene estimated (before meshing or packing) above "

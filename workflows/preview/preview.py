@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """Draws a packed pd-file (written by pd-pack) to a PNG: every grain's mesh (cells of its
 /reference_meshes entry on its /nodes/reference_position), coloured by body (fixed bodies grey),
-and the rigid walls of /walls (planes as lines across the view, circles as circles).
+and the rigid walls of /walls (planes as lines across the view, circles as circles; a wall
+that enters after t = 0, /walls/start_time > 0, dashed and labelled with its start time).
 3D scenes are drawn as the xy projection of the nodes.
 
     /usr/bin/python3 workflows/preview/preview.py FILE.h5 -o scene.png [--dpi 150] [--no-mesh]
@@ -51,18 +52,25 @@ def draw(path, out, dpi=150, mesh_lines=True):
     lo, hi = x[:, :2].min(axis=0), x[:, :2].max(axis=0)
     pad = 0.05 * max(hi - lo) if len(x) else 1.0
     lo, hi = lo - pad, hi + pad
+    start = walls.get("start_time", np.zeros(len(walls.get("shape", []))))
     for k in range(len(walls.get("shape", []))):
         p = walls["point"][k][:2]
+        # A wall that enters later (start_time > 0) is not there at t = 0: dashed, labelled.
+        later = start[k] > 0
+        style = dict(linestyles="dashed" if later else "solid")
+        if later:
+            ax.annotate(f"enters at t = {start[k]:.4g} s", p, fontsize=7, color="tab:red")
         if walls["shape"][k] == 0:
             n = walls["normal"][k][:2]
             t = np.array([-n[1], n[0]])
             L = 2 * max(hi - lo)
             ax.add_collection(LineCollection([[p - L * t, p + L * t]], colors="tab:red",
-                                             linewidths=2))
+                                             linewidths=2, **style))
             lo, hi = np.minimum(lo, p - pad), np.maximum(hi, p + pad)
         else:
             r = walls["radius"][k]
-            ax.add_patch(Circle(p, r, fill=False, color="tab:red", linewidth=2))
+            ax.add_patch(Circle(p, r, fill=False, color="tab:red", linewidth=2,
+                                linestyle="--" if later else "-"))
             lo, hi = np.minimum(lo, p - r - pad), np.maximum(hi, p + r + pad)
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])

@@ -21,14 +21,12 @@ json contact_law(const YAML::Node& n, const std::string& w, const Log& log, bool
         throw ConfigError(w, "no Contact_Radius_Factor or Contact_Radius (PeriDEM "
                              "would use R_c = 0: no contact)");
     const double kn = num_or(n, w, "Kn", 0) * num_or(n, w, "Kn_Factor", 1);
-    if (kn > 0)
-        law["stiffness"] = kn;
-    else {
-        law["stiffness"] = "auto";
-        log.warn("{}.Kn: missing or zero (PeriDEM: no contact force); imported as "
-                 "\"auto\" (18 kappa / (pi delta^(d+2)) (0.95 h / R_c)^(d+1))",
-                 w);
-    }
+    // Kn 0 (or missing): PeriDEM applies no contact force; pdgrain's stiffness 0 is the same
+    // (the pair does not interact; issue 28: imported as "auto" before, a driven plate pushed on
+    // its container from step 0).
+    law["stiffness"] = kn > 0 ? kn : 0.0;
+    if (!(kn > 0))
+        log.info("{}.Kn: missing or zero: no contact between these zones (as in PeriDEM)", w);
     if (flag_or(n, w, "Damping_On", true)) {
         if (!child(n, "Epsilon"))
             throw ConfigError(w + ".Epsilon", "required when Damping_On is true");
@@ -43,6 +41,13 @@ json contact_law(const YAML::Node& n, const std::string& w, const Log& log, bool
         law["restitution"] = 1.0;
     law["friction"] = flag_or(n, w, "Friction_On", true) ? num_or(n, w, "Friction_Coeff", 0) : 0.0;
     return law;
+}
+
+bool zone_is_wall(const std::vector<Zone>& zones, int k) {
+    for (const auto& z : zones)
+        if (z.k == k)
+            return z.wall;
+    return false;
 }
 
 } // namespace
@@ -104,6 +109,15 @@ void read_contact(Import& im) {
                     }
                     json p = f->second;
                     p["groups"] = {i - 1, j - 1};
+                    // PeriDEM never computes wall-wall contact (it skips pairs of wall
+                    // particles): a fixed container and a driven plate do not push on each other.
+                    if (zone_is_wall(zones, i) && zone_is_wall(zones, j) &&
+                        !(p["stiffness"].is_number() && p["stiffness"].get<double>() == 0)) {
+                        p["stiffness"] = 0.0;
+                        log.info("Contact.Zone_{}{}: both zones are walls: no contact between "
+                                 "them (PeriDEM skips wall-wall pairs)",
+                                 i, j);
+                    }
                     pairs.push_back(p);
                 }
         if (!pairs.empty()) {

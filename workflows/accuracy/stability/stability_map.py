@@ -10,7 +10,7 @@ automatic dt from the log line of a one-step run, then solve copies of the packe
 dt = k x E (--force-dt) for every k, and one at the automatic dt. A run is *stable* when
 pd-solve exits 0 (its guards exit 3 on an energy-balance drift above 5 % of the energy in play,
 on interpenetration, a node through a rigid wall, or a blow-up) and every check of
-tests/stress/check_run.py passes. Recorded per run: exit code, failed checks, energy-balance
+workflows/analysis/check_run.py passes. Recorded per run: exit code, failed checks, energy-balance
 drift (max |E + D - E0 - D0| / S, check_run's), broken bonds at the end against the k = 0.25
 run, process CPU time (user + sys) of pd-solve. The largest stable k is the largest k of the
 grid with every k' <= k stable; the margin of the automatic dt is auto / largest stable.
@@ -31,7 +31,7 @@ import sys
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
-sys.path.insert(0, str(ROOT / "tests" / "stress"))
+sys.path.insert(0, str(ROOT / "workflows" / "analysis"))
 
 K_DEFAULT = [0.25, 0.5, 0.7, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.25, 1.5, 2.0, 2.5, 3.0]
 

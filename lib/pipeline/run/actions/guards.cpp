@@ -1,16 +1,19 @@
 // SPDX-License-Identifier: MIT
 // The run's guards, at the observed steps: a non-finite state, a blow-up, interpenetration, a
 // node through a rigid wall, a broken energy balance each stop the run (NumericalError, exit 3)
-// with the frames before in the file. Every rank sees the same reduced values: the error unwinds
-// on every rank alike.
+// with the frames before in the file and the state at the failing step as a last frame, flagged
+// (/particles/nodes attributes failed_step, failure; issue 28). Every rank sees the same reduced
+// values: the error unwinds on every rank alike.
 #include "core/errors.hpp"
 #include "h5/file.hpp"
 #include "pipeline/run/schedule.hpp"
 #include "store/frames.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
 
 namespace pd::pipeline::run {
 
@@ -41,11 +44,103 @@ std::pair<std::size_t, double> fastest(const Run& r) {
     return {fast, vmax};
 }
 
-/// A guard that fires keeps the row that failed in the file, then stops the run.
-[[noreturn]] void stop_with_row(Run& r, std::int64_t n, const std::string& why) {
-    r.obs.add(n, r.s.state().time, observable_row(r.last_obs));
+/// The state at the failing step as the last frame, flagged with the guard's `kind` (the same
+/// on every rank: the attribute write is collective under MPI-IO).
+void failed_frame(Run& r, std::int64_t n, const char* kind) {
     r.obs.flush();
+    write_frame(r);
+    r.frames.flag_failed(n, kind);
+}
+
+/// A guard that fires keeps the row that failed and the state in the file, then stops the run.
+[[noreturn]] void stop_with_row(Run& r, std::int64_t n, const char* kind, const std::string& why) {
+    r.obs.add(n, r.s.state().time, observable_row(r.last_obs));
+    failed_frame(r, n, kind);
     throw NumericalError(why);
+}
+
+double distance(const double* a, const double* b) {
+    return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+
+/// How deep node `i` (its current position) is inside body `b`, m: the largest over the nodes j
+/// of b near it of (the reference depth of j - |y_i - y_j|). A node below b's surface layer
+/// (pd-pack's /nodes/surface, `layer` thick) is at least `layer` plus its reference distance to
+/// the layer deep; a layer node counts 0 (a lower bound, as check_run.py's, sharp to about h/2).
+double depth_inside(const Run& r, std::int64_t i, std::int32_t b, double layer) {
+    const auto& st = r.s.state();
+    const auto& nodes = r.m.nodes;
+    const auto& B = r.m.bodies;
+    const double h = B.mesh_size[static_cast<std::size_t>(b)];
+    const double* yi = &st.x[3 * static_cast<std::size_t>(i)];
+    std::vector<std::size_t> near, layer_nodes;
+    for (auto j = B.begin(static_cast<std::size_t>(b)); j < B.end(static_cast<std::size_t>(b));
+         ++j) {
+        const auto J = static_cast<std::size_t>(j);
+        if (nodes.surface.empty() || nodes.surface[J])
+            layer_nodes.push_back(J);
+        else if (distance(yi, &st.x[3 * J]) < 2 * h)
+            near.push_back(J);
+    }
+    double depth = -std::numeric_limits<double>::infinity();
+    for (auto J : near) {
+        double s = std::numeric_limits<double>::infinity();
+        for (auto K : layer_nodes)
+            s = std::min(s, distance(&nodes.x0[3 * J], &nodes.x0[3 * K]));
+        if (std::isfinite(s))
+            depth = std::max(depth, layer + s - distance(yi, &st.x[3 * J]));
+    }
+    return depth;
+}
+
+/// The contact law between bodies a and b (nullptr: none).
+const model::ContactPair* law_between(const model::Model& m, std::int32_t a, std::int32_t b) {
+    const auto ga = m.bodies.group[static_cast<std::size_t>(a)];
+    const auto gb = m.bodies.group[static_cast<std::size_t>(b)];
+    for (const auto& p : m.contact)
+        if ((p.group_a == ga && p.group_b == gb) || (p.group_a == gb && p.group_b == ga))
+            return &p;
+    return nullptr;
+}
+
+/// The numbers of an interpenetration: depth reached (the largest over the ranks that saw a
+/// node), R_c and h of the pair, K_n, dt and its limits (collective under MPI).
+std::string penetration_numbers(const Run& r) {
+    const auto& o = r.last_obs;
+    double rc_max = 0;
+    for (const auto& p : r.m.contact)
+        rc_max = std::max(rc_max, p.radius);
+    double depth = -std::numeric_limits<double>::infinity(), rc = 0, kn = 0, h = 0;
+    if (o.inside_node >= 0 && o.inside_of >= 0) {
+        h = r.m.bodies.mesh_size[static_cast<std::size_t>(o.inside_of)];
+        const double layer = rc_max + 0.5 * h + std::min(rc_max, h);
+        depth = depth_inside(r, o.inside_node, o.inside_of, layer);
+        if (const auto* p = law_between(r.m, o.inside_body, o.inside_of)) {
+            rc = p->radius;
+            kn = p->stiffness;
+        }
+    }
+    if (r.par) {
+        double mine[4] = {depth, rc, kn, h}, all[4];
+        MPI_Allreduce(mine, all, 4, MPI_DOUBLE, MPI_MAX, r.comm);
+        depth = all[0], rc = all[1], kn = all[2], h = all[3];
+    }
+    // A contact far softer than the grains (its stable step 10x the bonds'; the default K_n
+    // gives about 1-2x) is the first suspect, beside the radius.
+    const double soft = r.steps.est.pd > 0 ? r.steps.est.contact / r.steps.est.pd : 0;
+    const std::string softer =
+        soft > 10 ? fmt::format("; the contact is far softer than the grains (its stable step is "
+                                "{:.3g} x the bonds'): check contact.stiffness and "
+                                "stiffness_factor",
+                                soft)
+                  : std::string{};
+    return fmt::format("depth reached {} (R_c = {:.4g} m, h = {:.4g} m: the guard's bound R_c + "
+                       "h/2 = {:.4g} m), K_n = {:.4g} N m-7, dt = {:.4g} s (stability limit "
+                       "{:.4g} s: bonds {:.4g} s, contact {:.4g} s)",
+                       std::isfinite(depth) ? fmt::format("{:.4g} m", depth) : "unknown", rc, h,
+                       rc + 0.5 * h, kn, r.steps.dt, r.steps.est.limit, r.steps.est.pd,
+                       r.steps.est.contact) +
+           softer;
 }
 
 class Guards final : public Action {
@@ -118,7 +213,7 @@ void Guards::finite(Run& r, std::int64_t n) const {
     if (std::isfinite(o.kinetic_energy) && std::isfinite(o.elastic_energy) &&
         std::isfinite(o.contact_energy))
         return;
-    r.obs.flush();
+    failed_frame(r, n, "non-finite state");
     const auto i = r.s.first_nonfinite();
     throw NumericalError(
         fmt::format("{}: non-finite state at step {} (t = {:.6g} s){}; the last good frame "
@@ -137,7 +232,7 @@ void Guards::bounded(Run& r, std::int64_t n) const {
     const double e = o.kinetic_energy + o.elastic_energy + o.contact_energy;
     if (!(e > 100.0 * (energy0_ + std::max(0.0, o.external_work)) + 1e-300))
         return;
-    r.obs.flush();
+    failed_frame(r, n, "blow-up");
     const auto& st = r.s.state();
     const auto [fast, vmax] = fastest(r);
     throw NumericalError(
@@ -155,17 +250,22 @@ void Guards::inside(Run& r, std::int64_t n) const {
     const auto& o = r.last_obs;
     if (o.inside_pairs <= 0)
         return;
+    const std::string numbers = penetration_numbers(r); // collective
     stop_with_row(
-        r, n,
+        r, n, "interpenetration",
         fmt::format("{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) "
-                    "more than the contact radius + h/2 inside another grain{}. The contact "
-                    "is too soft for this load or impact (raise contact.stiffness_factor or "
-                    "the radius, slow the loading); the frames before stay in the file "
-                    "(--no-penetration-check runs on)",
+                    "more than the contact radius + h/2 inside another grain{}; {}. Contact "
+                    "failed: a node passed between the few nodes within R_c of it (README "
+                    "\"Tunnelling and the contact radius\": a stiffer K_n alone does not stop "
+                    "it). Give the grains' contact a radius of 3 mesh sizes "
+                    "(contact \"radius_mesh_factor\": 3) or slow the loading or impact. The "
+                    "state at this step is the last frame (flagged: /particles/nodes attribute "
+                    "failed_step), the frames before stay valid; --no-penetration-check runs on",
                     r.opt.file, n, r.s.state().time, o.inside_pairs,
                     o.inside_node >= 0 ? fmt::format(" (node {} of body {} inside body {})",
                                                      o.inside_node, o.inside_body, o.inside_of)
-                                       : std::string{}));
+                                       : std::string{},
+                    numbers));
 }
 
 void Guards::beyond_wall(Run& r, std::int64_t n) const {
@@ -173,12 +273,12 @@ void Guards::beyond_wall(Run& r, std::int64_t n) const {
     if (o.beyond_wall <= 0)
         return;
     stop_with_row(
-        r, n,
+        r, n, "node beyond a wall",
         fmt::format("{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
                     "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
                     "too soft for this impact (raise contact.stiffness_factor, lower the "
-                    "speed); the frames before stay in the file (--no-penetration-check "
-                    "runs on)",
+                    "speed); the state at this step is the last frame (flagged), the frames "
+                    "before stay in the file (--no-penetration-check runs on)",
                     r.opt.file, n, r.s.state().time, o.beyond_wall,
                     o.beyond_node >= 0
                         ? fmt::format(" (node {} of body {}, wall {})", o.beyond_node,
@@ -197,7 +297,7 @@ void Guards::balance(Run& r, std::int64_t n) {
     if (!(tol > 0 && std::isfinite(balance0_) && std::abs(drift) > tol * in_play_ && in_play_ > 0))
         return;
     r.obs.add(n, r.s.state().time, observable_row(o)); // the row that failed
-    r.obs.flush();
+    failed_frame(r, n, "energy balance");
     const auto [fast, vmax] = fastest(r);
     throw NumericalError(
         fmt::format("{}: energy balance broken at step {} (t = {:.6g} s): KE + elastic + "

@@ -1,0 +1,66 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""A failing step you can inspect (issue 28): two discs driven into each other through a contact
+far too soft (stiffness_factor 1e-4) interpenetrate; pd-solve stops with exit 3, writes the state
+at the failing step as a last frame flagged by /particles/nodes@failed_step, and its message
+gives the numbers (depth reached, R_c, K_n, dt and its limit) and the README's advice (a larger
+contact radius, not a stiffer K_n)."""
+import json
+import os
+import re
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+BIN = os.environ.get("PD_BIN_DIR", "build/bin")
+
+
+def scene():
+    return {
+        "dimension": 2,
+        "materials": {"m1": {"density": 1200, "youngs_modulus": 3.24e7, "fracture_energy": 50}},
+        "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+        "particles": [
+            {"radius": 1e-3, "center": [-1.15e-3, 0], "material": "m1", "velocity": [5, 0]},
+            {"radius": 1e-3, "center": [1.15e-3, 0], "material": "m1", "velocity": [-5, 0]},
+        ],
+        "contact": {"radius_factor": 0.95, "stiffness": "auto", "stiffness_factor": 1e-4},
+        "solver": {"final_time": 4e-4, "output_interval": 1e-4},
+    }
+
+
+def test_interpenetration_writes_the_failing_state_as_a_flagged_last_frame(tmp_path):
+    p = tmp_path / "soft.json"
+    p.write_text(json.dumps(scene()))
+    f = tmp_path / "soft.h5"
+    subprocess.run([f"{BIN}/pd-pack", str(p), "-o", str(f), "-q"], check=True)
+    r = subprocess.run([f"{BIN}/pd-solve", str(f), "-q"], capture_output=True, text=True)
+    assert r.returncode == 3, r.stdout + r.stderr
+    msg = r.stderr
+    assert "grains interpenetrate at step" in msg, msg
+    step = int(re.search(r"interpenetrate at step (\d+)", msg).group(1))
+    depth = float(re.search(r"depth reached ([0-9.eE+-]+) m", msg).group(1))
+    rc = float(re.search(r"R_c = ([0-9.eE+-]+) m", msg).group(1))
+    h = float(re.search(r"h = ([0-9.eE+-]+) m", msg).group(1))
+    # R_c = 0.95 x the smallest node spacing (radius_factor), h the grain's mesh size
+    assert 0.5 * 2e-4 < rc < 2e-4 and 0.5 * 2e-4 < h <= 2e-4, msg
+    assert depth > rc + h / 2, msg  # deeper than the guard's bound
+    assert re.search(r"K_n = [0-9.eE+-]+ N m-7", msg) and "stability limit" in msg
+    assert re.search(r"dt = [0-9.eE+-]+ s", msg)
+    # The advice matches the README (Tunnelling and the contact radius), not "raise stiffness".
+    assert "radius_mesh_factor" in msg and "raise contact.stiffness_factor" not in msg
+    # ... and names the soft contact of this scene (stiffness_factor 1e-4) as the first suspect.
+    assert "far softer than the grains" in msg
+    with h5py.File(f, "r") as h:
+        nodes = h["particles/nodes"]
+        assert nodes.attrs["failed_step"] == step
+        assert nodes.attrs["failure"] in ("interpenetration", b"interpenetration")
+        steps = nodes["position/step"][:]
+        assert steps[-1] == step and steps[-2] < step  # the failing state is the last frame
+        pos = nodes["position/value"]
+        assert np.isfinite(pos[-1]).all()
+        # The observables end at the failing step too.
+        assert h["observables/kinetic_energy/step"][-1] == step
+
