@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
 .PHONY: all deps deps-test configure build test demo bench examples examples-run accuracy stability \
-	format format-check clean deps-asan asan-build test-asan fuzz ci
+	install format format-check clean deps-asan asan-build test-asan fuzz ci
 
 all: build
 
@@ -27,6 +27,13 @@ build: configure
 
 test: deps-test build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The tools, the static libraries and headers with the CMake package (find_package(pdgrain)),
+# data-schema/, the workflows and the Python module under PREFIX (README: "Using pdgrain as a
+# library").
+PREFIX ?= /usr/local
+install: build
+	@cmake --install $(BUILD) --prefix $(PREFIX)
 
 demo: build
 	@bash workflows/demo/run.sh $(BUILD)
@@ -131,7 +138,7 @@ ci:
 	@$(MAKE) --no-print-directory test-asan
 	@$(MAKE) --no-print-directory fuzz
 
-SOURCES = $(shell find lib tools tests workflows -name '*.cpp' -o -name '*.hpp')
+SOURCES = $(shell find lib tools tests workflows python -name '*.cpp' -o -name '*.hpp')
 
 format:
 	@clang-format-14 -i $(SOURCES)

@@ -25,6 +25,7 @@ packages=(
   python3-h5py python3-h5py-mpi python3-mpi4py python3-meshio python3-numpy python3-matplotlib
   python3-pytest
   libyaml-cpp-dev python3-jsonschema
+  pybind11-dev python3-pybind11 python3-dev
   paraview
 )
 if [ "$with_slurm" = 1 ]; then

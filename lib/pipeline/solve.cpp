@@ -12,6 +12,7 @@
 #include "pipeline/partition.hpp"
 #include "pipeline/run/schedule.hpp"
 #include "pipeline/run/signals.hpp"
+#include "pipeline/simulation.hpp"
 #include "solver/solver.hpp"
 #include "store/checkpoint_io.hpp"
 #include "store/frames.hpp"
@@ -309,94 +310,20 @@ void restore(Context& ctx, Input& in, solver::Solver& s) {
     in.ck.reset();
 }
 
-/// The step loop: t = 0 written on a fresh run, then each step followed by the scheduled actions
-/// whose trigger fires.
-void step_loop(run::Run& r) {
-    auto& s = r.s;
-    if (r.steps.first == 0) {
-        s.initialize();
-        if (s.precracked() > 0)
-            r.ctx.log.info("pre-cracks: {} bonds start broken", s.precracked() / 2);
-        run::write_frame(r);
-        r.obs.add(0, 0.0, run::observable_row(s.observe()));
-    }
-    Timers& timers = s.timers();
-    const int t_setup = timers.id("pd::setup");
-    run::Schedule schedule(r);
-    timers.add(t_setup, wall_seconds() - r.wall0); // read, build, t = 0
-    r.last_obs = s.observe();
-    for (std::int64_t n = r.steps.first + 1; n <= r.steps.last; ++n) {
-        s.set_energies(schedule.needs_energies(n)); // bond energies only where observed
-        s.advance();
-        if (!schedule.after_step(r, n))
-            break;
-    }
-}
-
 /// How the run phase ended.
 struct Outcome {
     std::size_t nframes = 0;
     int stopped_by = 0;           ///< the signal that stopped the run early
     std::int64_t stopped_at = -1; ///< the step it stopped after (checkpointed)
+    std::int64_t end = 0;         ///< the last step done
 };
-
-/// Phase 3, every rank: the run, on one file (MPI-IO, collective, under mpirun). Errors every
-/// rank sees alike (from reduced values, or from the same file) unwind on every rank; any other
-/// error on one rank aborts them all rather than leaving them waiting.
-Outcome run_phase(const SolveOptions& opt, Context& ctx, Input& in, solver::Solver& s,
-                  const run::Steps& steps, SpaceReserve& reserve, double wall0) {
-    const bool par = ctx.size > 1;
-    MPI_Comm comm = MPI_COMM_WORLD;
-    auto f = std::make_unique<h5::File>(opt.file, h5::Mode::read_write, par ? &comm : nullptr);
-    bool agreed = false;
-    Outcome out;
-    try {
-        if (in.ck)
-            restore(ctx, in, s);
-        store::FrameWriter frames(*f, in.m.nodes.num(), in.m.solver.fields, opt.compress);
-        if (par)
-            frames.set_runs(s.domain().runs());
-        store::ObservableWriter obs(*f, s.num_walls(), s.reaction_bodies());
-        run::Run r{.opt = opt,
-                   .ctx = ctx,
-                   .m = in.m,
-                   .s = s,
-                   .dom = in.dom,
-                   .file = *f,
-                   .frames = frames,
-                   .obs = obs,
-                   .steps = steps,
-                   .wall0 = wall0,
-                   .agreed = agreed,
-                   .par = par,
-                   .comm = comm};
-        step_loop(r);
-        out.stopped_by = r.stopped_by;
-        out.stopped_at = r.stopped_at;
-        obs.flush();
-        out.nframes = frames.frames();
-        f->close(); // checked: a write the disk refused (full) fails the run here, exit 2
-    } catch (const std::exception& e) {
-        reserve.release(); // room for HDF5 to flush and close the file (full disk)
-        ctx.errors_collective = agreed;
-        if (par && !agreed) {
-            ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));
-            MPI_Abort(comm, dynamic_cast<const InputError*>(&e)       ? exit_input
-                            : dynamic_cast<const NumericalError*>(&e) ? exit_numerical
-                                                                      : exit_internal);
-        }
-        throw;
-    }
-    f.reset(); // collective close before rank 0 records provenance
-    return out;
-}
 
 /// The close: the stop (exit_preempted, every rank agreed on the step), the run's figures.
 void report(const SolveOptions& opt, Context& ctx, const model::Model& m, solver::Solver& s,
             const run::Steps& st, const Outcome& out, double wall0) {
     Timers& timers = s.timers();
     const double wall = wall_seconds() - wall0;
-    const std::int64_t end = out.stopped_at >= 0 ? out.stopped_at : st.last;
+    const std::int64_t end = out.end;
     if (out.stopped_at >= 0) {
         // Every rank agreed on the step: the exit is collective, with its own code.
         ctx.errors_collective = true;
@@ -425,40 +352,251 @@ void report(const SolveOptions& opt, Context& ctx, const model::Model& m, solver
 
 } // namespace
 
-void solve(const SolveOptions& opt, Context& ctx) {
-    const double wall0 = wall_seconds();
-    const run::StopSignals stop_signals;
+/// The run between its set-up and its close: what pd-solve's phases hold.
+struct Simulation::Impl {
+    SolveOptions opt;
+    Context& ctx;
+    double wall0 = 0;
+    Input in;
+    std::unique_ptr<solver::Solver> s;
+    run::Steps st;
+    SimulationSteps pub;
+    bool complete = false; ///< a restart of a complete run: nothing to do
+    SpaceReserve reserve;
+    bool par = false;
+    MPI_Comm comm = MPI_COMM_WORLD;
+    std::unique_ptr<h5::File> f;
+    bool agreed = false;
+    std::unique_ptr<store::FrameWriter> frames;
+    std::unique_ptr<store::ObservableWriter> obs;
+    std::unique_ptr<run::Run> r;
+    std::unique_ptr<run::Schedule> schedule;
+    std::int64_t n = 0;   ///< the step the state is at
+    bool stopped = false; ///< a stop request ended the loop
+    bool closed = false;
+
+    Impl(const SolveOptions& o, Context& c)
+        : opt(o)
+        , ctx(c) {}
+
+    /// Phase 3's errors: those every rank sees alike unwind; any other one aborts the ranks.
+    void fail(const std::exception& e) {
+        reserve.release(); // room for HDF5 to flush and close the file (full disk)
+        ctx.errors_collective = agreed;
+        if (par && !agreed) {
+            ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));
+            MPI_Abort(comm, dynamic_cast<const InputError*>(&e)       ? exit_input
+                            : dynamic_cast<const NumericalError*>(&e) ? exit_numerical
+                                                                      : exit_internal);
+        }
+    }
+
+    /// Phase 3 up to the loop, every rank on one file (MPI-IO, collective, under mpirun): the
+    /// checkpoint restored or t = 0 written, the scheduled actions built.
+    void start() {
+        f = std::make_unique<h5::File>(opt.file, h5::Mode::read_write, par ? &comm : nullptr);
+        try {
+            if (in.ck)
+                restore(ctx, in, *s);
+            frames = std::make_unique<store::FrameWriter>(*f, in.m.nodes.num(), in.m.solver.fields,
+                                                          opt.compress);
+            if (par)
+                frames->set_runs(s->domain().runs());
+            obs =
+                std::make_unique<store::ObservableWriter>(*f, s->num_walls(), s->reaction_bodies());
+            r.reset(new run::Run{.opt = opt,
+                                 .ctx = ctx,
+                                 .m = in.m,
+                                 .s = *s,
+                                 .dom = in.dom,
+                                 .file = *f,
+                                 .frames = *frames,
+                                 .obs = *obs,
+                                 .steps = st,
+                                 .wall0 = wall0,
+                                 .agreed = agreed,
+                                 .par = par,
+                                 .comm = comm});
+            if (st.first == 0) {
+                s->initialize();
+                if (s->precracked() > 0)
+                    ctx.log.info("pre-cracks: {} bonds start broken", s->precracked() / 2);
+                run::write_frame(*r);
+                r->obs.add(0, 0.0, run::observable_row(s->observe()));
+            }
+            Timers& timers = s->timers();
+            const int t_setup = timers.id("pd::setup");
+            schedule = std::make_unique<run::Schedule>(*r);
+            timers.add(t_setup, wall_seconds() - wall0); // read, build, t = 0
+            r->last_obs = s->observe();
+            n = st.first;
+        } catch (const std::exception& e) {
+            fail(e);
+            throw;
+        }
+    }
+};
+
+Simulation::Simulation(const SolveOptions& opt, Context& ctx)
+    : impl_(std::make_unique<Impl>(opt, ctx)) {
+    auto& p = *impl_;
+    p.wall0 = wall_seconds();
+    p.par = ctx.size > 1;
     ctx.log.info("{} rank{} x {} thread{} ({})", ctx.size, ctx.size == 1 ? "" : "s",
                  ctx.run.threads, ctx.run.threads == 1 ? "" : "s", ctx.run.threads_why);
     // Open.
-    Input in = open(opt, ctx);
+    p.in = open(p.opt, ctx);
     // Set up.
-    solver::Solver s(in.m, in.dom.get(), std::move(in.row_neighbors));
+    p.s = std::make_unique<solver::Solver>(p.in.m, p.in.dom.get(), std::move(p.in.row_neighbors));
+    auto& s = *p.s;
     if (ctx.size > 1)
-        log_work_balance(in.m, s, ctx);
+        log_work_balance(p.in.m, s, ctx);
     const auto est = s.stable_dt();
-    const auto steps = count_steps(opt, ctx, in, time_step(opt, ctx, in, est));
-    if (!steps)
-        return; // a restart of a complete run
+    const auto steps = count_steps(p.opt, ctx, p.in, time_step(p.opt, ctx, p.in, est));
+    if (!steps) {
+        p.complete = true; // a restart of a complete run
+        p.closed = true;
+        return;
+    }
     s.set_dt(steps->dt);
-    run::Steps st = *steps;
-    st.est = est;
-    const auto& m = in.m;
+    p.st = *steps;
+    p.st.est = est;
+    auto& st = p.st;
+    p.pub = {st.dt, st.first, st.last, st.total, st.out_every, st.ckpt_every, st.obs_every};
+    const auto& m = p.in.m;
     ctx.log.info(
         "{}: {} bodies, {} walls, {} nodes, {} bonds; dt = {:.4g} s ({:.3g} x stability "
         "limit {:.4g} s, governed by {}; bonds {:.4g} s, contact {:.4g} s), steps {} to {} "
         "(t = {:.4g} s), a frame every {} steps",
-        opt.file, m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), st.dt,
+        p.opt.file, m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), st.dt,
         st.dt / est.limit, est.limit, est.governing, est.pd, est.contact, st.first, st.last,
         st.dt * static_cast<double>(st.last), st.out_every);
     if (!s.contact().active() && !s.walls().active())
         ctx.log.info("contact: off (no two bodies or walls with a contact law)");
-    SpaceReserve reserve;
-    prepare_file(opt, ctx, in, s, reserve);
-    // Run.
-    const Outcome out = run_phase(opt, ctx, in, s, st, reserve, wall0);
+    prepare_file(p.opt, ctx, p.in, s, p.reserve);
+    // Run: up to the step loop.
+    p.start();
+}
+
+Simulation::~Simulation() {
+    if (!impl_ || impl_->closed)
+        return;
+    try {
+        close();
+    } catch (const std::exception& e) {
+        impl_->ctx.log.error(std::string("while closing the run: ") + e.what());
+    }
+}
+
+std::int64_t Simulation::advance(std::int64_t k) {
+    auto& p = *impl_;
+    std::int64_t done = 0;
+    if (finished())
+        return 0;
+    try {
+        auto& s = *p.s;
+        auto& schedule = *p.schedule;
+        for (; done < k && p.n < p.st.last; ++done) {
+            const std::int64_t n = p.n + 1;
+            s.set_energies(schedule.needs_energies(n)); // bond energies only where observed
+            s.advance();
+            p.n = n;
+            if (!schedule.after_step(*p.r, n)) {
+                p.stopped = true;
+                ++done;
+                break;
+            }
+        }
+    } catch (const std::exception& e) {
+        p.fail(e);
+        throw;
+    }
+    return done;
+}
+
+bool Simulation::finished() const {
+    const auto& p = *impl_;
+    return p.complete || p.closed || p.stopped || p.n >= p.st.last;
+}
+
+std::int64_t Simulation::step() const {
+    return impl_->complete ? impl_->s->state().step : impl_->n;
+}
+
+void Simulation::checkpoint() {
+    auto& p = *impl_;
+    if (p.complete || p.closed)
+        return;
+    try {
+        p.obs->flush();
+        run::checkpoint_now(*p.r);
+    } catch (const std::exception& e) {
+        p.fail(e);
+        throw;
+    }
+}
+
+int Simulation::close() {
+    auto& p = *impl_;
+    if (p.closed)
+        return p.ctx.exit_code;
+    p.closed = true;
+    Outcome out;
+    try {
+        // A driven run that ends before its last step leaves a checkpoint to continue from.
+        if (!p.stopped && p.n < p.st.last && p.n > p.st.first) {
+            p.obs->flush();
+            run::checkpoint_now(*p.r);
+        }
+        out.stopped_by = p.r->stopped_by;
+        out.stopped_at = p.r->stopped_at;
+        out.end = p.n;
+        p.obs->flush();
+        out.nframes = p.frames->frames();
+        p.f->close(); // checked: a write the disk refused (full) fails the run here, exit 2
+    } catch (const std::exception& e) {
+        p.fail(e);
+        throw;
+    }
+    p.schedule.reset();
+    p.r.reset();
+    p.obs.reset();
+    p.frames.reset();
+    p.f.reset(); // collective close before rank 0 records provenance
     // Close.
-    report(opt, ctx, m, s, st, out, wall0);
+    report(p.opt, p.ctx, p.in.m, *p.s, p.st, out, p.wall0);
+    return p.ctx.exit_code;
+}
+
+void Simulation::abandon() {
+    auto& p = *impl_;
+    p.closed = true;
+    p.schedule.reset();
+    p.r.reset();
+    p.obs.reset();
+    p.frames.reset();
+    p.f.reset();
+}
+
+solver::Solver& Simulation::solver() {
+    return *impl_->s;
+}
+
+const model::Model& Simulation::model() const {
+    return impl_->in.m;
+}
+
+const SimulationSteps& Simulation::steps() const {
+    return impl_->pub;
+}
+
+void solve(const SolveOptions& opt, Context& ctx) {
+    const run::StopSignals stop_signals;
+    Simulation sim(opt, ctx);
+    if (sim.finished())
+        return; // a restart of a complete run
+    sim.advance(std::numeric_limits<std::int64_t>::max());
+    sim.close();
 }
 
 } // namespace pd::pipeline

@@ -110,5 +110,7 @@ std::vector<double> observable_row(const solver::Observables& o);
 double busy_seconds(Timers& timers);
 /// Writes the requested fields of the current state as one frame.
 void write_frame(Run& r);
+/// Writes a checkpoint of the current state to /checkpoints (collective; actions/checkpoint.cpp).
+void checkpoint_now(Run& r);
 
 } // namespace pd::pipeline::run

@@ -9,16 +9,6 @@
 
 namespace pd::pipeline::run {
 
-namespace {
-
-Trigger checkpoint_trigger(const Run& r) {
-    Trigger t;
-    t.every(r.steps.ckpt_every).at(r.steps.last).on_stop();
-    if (r.opt.checkpoint_wall_seconds > 0)
-        t.every_wall(r.opt.checkpoint_wall_seconds, Trigger::Clock::agreed);
-    return t;
-}
-
 void checkpoint_now(Run& r) {
     const auto& s = r.s;
     store::Checkpoint c;
@@ -48,6 +38,16 @@ void checkpoint_now(Run& r) {
                                    static_cast<std::uint64_t>(r.m.bonds.offsets[run[1]])});
     }
     store::write_checkpoint(r.file, c);
+}
+
+namespace {
+
+Trigger checkpoint_trigger(const Run& r) {
+    Trigger t;
+    t.every(r.steps.ckpt_every).at(r.steps.last).on_stop();
+    if (r.opt.checkpoint_wall_seconds > 0)
+        t.every_wall(r.opt.checkpoint_wall_seconds, Trigger::Clock::agreed);
+    return t;
 }
 
 class Checkpoint final : public Action {
