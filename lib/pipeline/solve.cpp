@@ -444,9 +444,7 @@ Simulation::Simulation(const SolveOptions& opt, Context& ctx)
     p.par = ctx.size > 1;
     ctx.log.info("{} rank{} x {} thread{} ({})", ctx.size, ctx.size == 1 ? "" : "s",
                  ctx.run.threads, ctx.run.threads == 1 ? "" : "s", ctx.run.threads_why);
-    // Open.
-    p.in = open(p.opt, ctx);
-    // Set up.
+    p.in = open(p.opt, ctx); // Open, then set up:
     p.s = std::make_unique<solver::Solver>(p.in.m, p.in.dom.get(), std::move(p.in.row_neighbors));
     auto& s = *p.s;
     if (ctx.size > 1)

@@ -9,7 +9,7 @@ out="${2:-$root/out/two_discs}"
 bin="$build/bin"
 mkdir -p "$out"
 start=$(date +%s.%N)
-"$bin/pd-pack" "$root/examples/two_discs/scene.json" -o "$out/two_discs.h5"
+"$bin/pd-pack" "$root/examples/two_discs/scene.json" -o "$out/two_discs.h5" --overwrite
 "$bin/pd-partition" "$out/two_discs.h5" -n 2
 # two MPI ranks, one grain each (more ranks than cores is allowed, only slower)
 mpi=(mpirun -np 2 --oversubscribe)
