@@ -247,7 +247,8 @@ void Solver::advance() {
     }
     compute_forces();
     const double p = second_kick(verlet, kr);
-    external_work_ += 0.5 * (power_ + p) * dt; // trapezoidal in time
+    // Trapezoidal in time; first contacts with moving walls corrected (WallLoad::work).
+    external_work_ += 0.5 * (power_ + p) * dt + f_.wall_load.work;
     power_ = p;
     f_.diss.damping += 0.5 * (damping_rate0 + f_.diss.damping_rate) * dt;
     f_.diss.friction += 0.5 * (friction_rate0 + f_.diss.friction_rate) * dt;

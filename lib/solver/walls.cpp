@@ -92,6 +92,10 @@ WallContact::WallContact(const model::Model& m, double skin)
                 }
             }
     active_ = std::any_of(law_.begin(), law_.end(), [](auto k) { return k >= 0; });
+    for (const auto& w : walls_)
+        for (int d = 0; d < 3; ++d)
+            moving_ = moving_ || w.velocity[static_cast<std::size_t>(d)] != 0 ||
+                      w.angular_velocity[static_cast<std::size_t>(d)] != 0 || w.start_time > 0;
 }
 
 bool WallContact::update(const State& s) {
@@ -182,6 +186,7 @@ void poses(const std::vector<model::Wall>& walls, double t, std::vector<WallPose
 void clear(WallLoad& load, std::size_t nw) {
     load.force.assign(3 * nw, 0.0);
     load.moment.assign(3 * nw, 0.0);
+    load.work = 0;
     load.touching = 0;
     load.energy = 0;
     load.beyond = 0;
@@ -221,7 +226,44 @@ void finish(WallLoad& load, const std::vector<double>& fm, std::vector<BodyWallF
 }
 } // namespace
 
-void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce>* normal) const {
+double WallContact::first_contact(const State& s, const std::vector<WallPose>& pose,
+                                  const std::vector<WallPose>& prev,
+                                  const std::vector<std::uint8_t>& present,
+                                  const std::vector<std::uint8_t>& present_prev, double dt) const {
+    const std::size_t nw = walls_.size();
+    double corr = 0;
+    for (std::size_t a = 0; a < nodes_.size(); ++a) {
+        const auto i = static_cast<std::size_t>(nodes_[a]);
+        const double* x = &s.x[3 * i];
+        const auto g =
+            static_cast<std::size_t>(m_.bodies.group[static_cast<std::size_t>(s.body[i])]);
+        for (auto k = offsets_[a]; k < offsets_[a + 1]; ++k) {
+            const auto w = static_cast<std::size_t>(wall_of_[static_cast<std::size_t>(k)]);
+            if (!present[w])
+                continue;
+            const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
+            const double r0 = law.offset();
+            double n[3], np[3];
+            const double d = distance(walls_[w], pose[w], x, n);
+            if (d >= r0 || (present_prev[w] && distance(walls_[w], prev[w], x, np) < r0))
+                continue; // not touching, or touching already with the wall a step before
+            const bool surface = law.law == model::ContactLaw::surface;
+            const double vi = s.vol[i];
+            const double u = 0.5 * law.stiffness * (r0 - d) * (r0 - d) * vi * (surface ? 1 : vi);
+            const double F = law.stiffness * (r0 - d) * vi * (surface ? 1 : vi); // on the node, N
+            const auto& p = pose[w];
+            const double r[3] = {x[0] - p.centre[0], x[1] - p.centre[1], x[2] - p.centre[2]};
+            const double vw[3] = {p.velocity[0] + p.omega[1] * r[2] - p.omega[2] * r[1],
+                                  p.velocity[1] + p.omega[2] * r[0] - p.omega[0] * r[2],
+                                  p.velocity[2] + p.omega[0] * r[1] - p.omega[1] * r[0]};
+            corr += u - 0.5 * dt * F * (n[0] * vw[0] + n[1] * vw[1] + n[2] * vw[2]);
+        }
+    }
+    return corr;
+}
+
+void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce>* normal,
+                             double dt) const {
     const std::size_t nw = walls_.size();
     clear(load, nw);
     if (!active_ || nodes_.empty())
@@ -247,6 +289,10 @@ void WallContact::add_forces(State& s, WallLoad& load, std::vector<BodyWallForce
     load.energy = energy;
     load.beyond = beyond;
     finish(load, fm, records, normal);
+    if (dt > 0 && moving_) {
+        poses(walls_, s.time - dt, pose_prev_, present_prev_);
+        load.work = first_contact(s, pose, pose_prev_, present, present_prev_, dt);
+    }
 }
 
 // The candidate nodes on the calling thread or, inside add_forces' region, this thread's share

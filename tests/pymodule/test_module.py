@@ -9,8 +9,11 @@ import pytest
 
 from conftest import BIN, SRC, tool
 
-# (scene, overrides): short runs of two checked examples.
+# (scene, overrides): short runs of three checked examples (ellipse_on_tip: a fixed meshed body,
+# the tip, and a PMB grain that breaks in the full run).
 CASES = {
+    "ellipse_on_tip": (SRC / "examples/ellipse_on_tip/scene_pmb.json",
+                       ["solver.final_time=2e-4", "solver.output_interval=5e-5"]),
     "two_discs": (SRC / "examples/two_discs/scene.json", ["solver.final_time=1.2e-4"]),
     "two_discs_wall": (SRC / "examples/two_discs_wall/scene_rigid.json",
                        ["solver.final_time=1.0e-4", "solver.output_interval=1e-5"]),

@@ -14,7 +14,7 @@ class RigidWalls final : public ForceTerm {
     void add(Forces& f) override {
         ScopedTimer t(f.timers, f.t_walls);
         f.walls->update(f.s);
-        f.walls->add_forces(f.s, f.wall_load, f.records ? &f.wall_records : nullptr);
+        f.walls->add_forces(f.s, f.wall_load, f.records ? &f.wall_records : nullptr, f.dt);
         f.contact_count += f.wall_load.touching;
         f.contact_energy += f.wall_load.energy;
     }
