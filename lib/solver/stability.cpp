@@ -338,13 +338,17 @@ double contact_lambda_bound(const model::Model& m, const State& s) {
         if (p.law == model::ContactLaw::surface) {
             // A node inside a boundary: c V_i on itself and on the facet's nodes (weights
             // summing to 1), twice as a node is both inside one boundary and a facet node of
-            // another (Gershgorin: 2 x (c + c) / rho).
+            // another (Gershgorin: 2 x (c + c) / rho), and that for each other body it can touch
+            // at once: in a pack, grains meet at a point in threes (2D) and fours (3D), so a
+            // node there is inside, and a facet node for, `dimension` other bodies. At 4 c / rho
+            // a 2D box of 78 circles and hexagons blew up at such a triple junction after 36 ms
+            // (one node at 8.9 m/s, the balance 16 % off at 0.85 x the estimate).
             // Against a rigid wall only: c on the node itself; with the node's own bonds, 2 c
             // (the smaller step of bonds and contact is taken, not their sum: see
             // Solver::stable_dt).
             const double rho = std::min(rho_min[a], rho_min[b]);
             if (std::isfinite(rho))
-                lambda = std::max(lambda, (pair ? 4.0 : 2.0) * kn / rho);
+                lambda = std::max(lambda, (pair ? 4.0 * m.dimension : 2.0) * kn / rho);
             continue;
         }
         const double h = std::min(hmin[a], hmin[b]);
