@@ -12,8 +12,6 @@ import pathlib
 import shutil
 import subprocess
 
-import numpy as np
-
 import pdgrain
 
 ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
