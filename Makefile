@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
 .PHONY: all deps deps-test configure build test demo bench examples examples-run accuracy stability \
-	install format format-check clean deps-asan asan-build test-asan fuzz ci
+	install quick-python format format-check clean deps-asan asan-build test-asan fuzz ci
 
 all: build
 
@@ -46,6 +46,14 @@ examples: build
 
 examples-run:
 	@bash examples/run_quick.sh $(BUILD)/bin $(BUILD)/examples
+
+# Every examples/*/problem.py with --quick, in process through `import pdgrain` (issue 30);
+# outputs in $(BUILD)/examples-python/<example>. ctest's pytest.pyexamples checks them against
+# the pipeline.
+quick-python: build
+	@set -e; for p in examples/*/problem.py; do d=$$(basename $$(dirname $$p)); \
+	  echo "== $$d"; PYTHONPATH=$(BUILD)/python PD_BIN_DIR=$(BUILD)/bin OMP_NUM_THREADS=1 \
+	  /usr/bin/python3 $$p --quick --out $(BUILD)/examples-python/$$d; done
 
 # Error against CPU time of the accuracy problems (workflows/accuracy: RESULTS.md, one PNG each;
 # about 10 min of CPU, 20-30 min on 2 busy cores), then the time-step stability map when its

@@ -12,8 +12,6 @@ import pathlib
 import shutil
 import subprocess
 
-import numpy as np
-
 import pdgrain
 
 ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -26,7 +24,7 @@ out.mkdir(parents=True, exist_ok=True)
 scene = pdgrain.scene.two_discs()  # = examples/two_discs/scene.json
 if args.quick:
     scene.solver(final_time=4.0e-4)
-f = pdgrain.pack(scene, out / "two_discs.h5")
+f = pdgrain.pack(scene, out / "two_discs.h5", overwrite=True)
 
 with pdgrain.Simulation(f, threads=1, overwrite=True) as sim:
     v, body = sim.velocities, sim.body  # views: they follow the run

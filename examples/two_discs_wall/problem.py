@@ -21,7 +21,8 @@ out = pathlib.Path(args.out)
 out.mkdir(parents=True, exist_ok=True)
 
 sets = ["solver.final_time=1.0e-3"] if args.quick else []
-f = pdgrain.pack(HERE / "scene_rigid.json", out / "two_discs_wall.h5", sets=sets)
+f = pdgrain.pack(HERE / "scene_rigid.json", out / "two_discs_wall.h5", sets=sets,
+                 overwrite=True)
 bounce = {}
 with pdgrain.Simulation(f, threads=1, overwrite=True) as sim:
     v, body = sim.velocities, sim.body

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 
 namespace pd::model {
 struct Model;
@@ -59,6 +60,10 @@ class Simulation {
 
     solver::Solver& solver();
     const model::Model& model() const;
+    /// The model the solver runs, writable between advance() calls where the solver reads it
+    /// afresh at every step: a condition's amplitude, time function and parameters (its nodes
+    /// and components are fixed at set-up). Not written back to the file.
+    model::Model& model() { return const_cast<model::Model&>(std::as_const(*this).model()); }
     const SimulationSteps& steps() const;
 
   private:

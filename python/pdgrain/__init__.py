@@ -56,14 +56,20 @@ class File:
             return g["step"][()], g["time"][()], g["value"][()]
 
     def observables(self):
-        """/observables as a dict of numpy arrays (h5py)."""
+        """/observables as a dict of numpy arrays (h5py): each observable's values (H5MD
+        /observables/<name>/value), and "time" and "step" of the rows."""
         with self.h5() as h:
-            return {k: v[()] for k, v in h["observables"].items() if hasattr(v, "shape")}
+            g = h["observables"]
+            out = {k: v["value"][()] for k, v in g.items() if "value" in v}
+            first = next(v for v in g.values() if "value" in v)
+            out.update(time=first["time"][()], step=first["step"][()])
+            return out
 
 
-def pack(scene_or_path, output, sets=(), quiet=True):
+def pack(scene_or_path, output, sets=(), quiet=True, overwrite=False):
     """pd-pack in process: a scene (a dict, a scene.Scene, or the path of a JSON scene) into the
-    pd-file `output`; returns the File. `sets`: "path=value" overrides as pd-pack --set."""
+    pd-file `output`; returns the File. `sets`: "path=value" overrides as pd-pack --set;
+    `overwrite`: pd-pack --overwrite (replace a file that holds the results of a run)."""
     output = os.fspath(output)
     if isinstance(scene_or_path, scene.Scene):
         scene_or_path = scene_or_path.data
@@ -72,17 +78,18 @@ def pack(scene_or_path, output, sets=(), quiet=True):
         with tempfile.NamedTemporaryFile("w", suffix=".json", dir=folder, delete=False) as t:
             json.dump(scene_or_path, t, indent=1)
         try:
-            _core.pack(t.name, output, list(sets), quiet)
+            _core.pack(t.name, output, list(sets), quiet, overwrite)
         finally:
             os.unlink(t.name)
     else:
-        _core.pack(os.fspath(scene_or_path), output, list(sets), quiet)
+        _core.pack(os.fspath(scene_or_path), output, list(sets), quiet, overwrite)
     return File(output)
 
 
 class Simulation(_core.Simulation):
     """pd-solve's run held open: Simulation(file, threads=0 (all), restart=False, overwrite=False,
-    final_time=None, max_steps=None, energy_tolerance=0.05, quiet=True, verbose=False).
+    final_time=None, max_steps=None, energy_tolerance=0.05, penetration_check=True, force_dt=False,
+    quiet=True, verbose=False): pd-solve's options of those names.
 
     On opening: t = 0 is written (a frame, an observable row) or the latest checkpoint restored
     (restart=True). step(n) advances at most n steps with pd-solve's scheduled actions after each
@@ -112,6 +119,14 @@ class Simulation(_core.Simulation):
         x = self.positions
         mask = np.asarray(where(x[i], x[j]), dtype=bool)
         return self.break_mask(mask)
+
+    def condition(self, name):
+        """The loading condition `name` (a pdgrain.Condition: amplitude, time_function,
+        time_parameters, space_parameter writable, hold(); the rules in python/module.cpp)."""
+        for c in self.conditions:
+            if c.name == name:
+                return c
+        raise KeyError("no condition %r (there are %s)" % (name, [c.name for c in self.conditions]))
 
     def __enter__(self):
         return self

@@ -141,10 +141,19 @@ def test_example_problem_py(pdgrain, tmp_path, example):
     import os
     import subprocess
     import sys
+    import re
     r = subprocess.run([sys.executable, str(SRC / "examples" / example / "problem.py"), "--quick",
                         "--out", str(tmp_path / example)], capture_output=True, text=True,
-                       env=dict(os.environ))
+                       env=dict(os.environ, PD_BIN_DIR=str(BIN)))
     assert r.returncode == 0, r.stdout + r.stderr
+    if example == "two_discs":
+        # the views followed the run: the discs approach at 0.5 m/s, then slow in contact
+        vx = [float(v) for v in re.findall(r"left ([+-][0-9.]+)", r.stdout)]
+        assert vx[0] == pytest.approx(0.5, abs=1e-3) and vx[-1] < 0.4
+        assert int(re.search(r"left disc: ([0-9]+) bonds", r.stdout).group(1)) > 100
+        assert (tmp_path / example / "post" / "two_discs.pvd").exists()
+    else:  # both discs bounce on the floor within the first ms
+        assert len(re.findall(r"bounces at t = [0-9.]+e-0[34] s", r.stdout)) == 2
 
 
 def test_mpi_two_ranks_equal_pd_solve_under_mpirun(pdgrain, tmp_path):

@@ -1,0 +1,18 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""concave_wall from Python, in process (issue 30): scene.json packed and run step by step with
+each body's centre and mean velocity read from the numpy views between chunks, then pd-post on
+the same file (pdgrain.example). The example: Two concave grains on a wall (spec 8.2).
+
+    PYTHONPATH=build/python /usr/bin/python3 examples/concave_wall/problem.py [--quick] [--steps N]
+
+--quick: the first 200 steps (CI). pd-solve --force-dt, as README.md says: PeriDEM's dt is
+above pdgrain's estimate. README.md describes the example; scene.json is its scene.
+"""
+import pathlib
+import sys
+
+import pdgrain.example
+
+sys.exit(pdgrain.example.main(__doc__, pathlib.Path(__file__).with_name("scene.json"),
+                              quick_steps=200, force_dt=True))
