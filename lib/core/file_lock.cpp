@@ -389,4 +389,11 @@ void SpaceReserve::release() noexcept {
     path_.clear();
 }
 
+std::array<std::uint64_t, 2> file_identity(const std::string& file) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0)
+        return {0, 0};
+    return {static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino)};
+}
+
 } // namespace pd

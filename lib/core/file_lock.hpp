@@ -14,6 +14,7 @@
 //   is refused with the command that removes it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 
@@ -77,5 +78,8 @@ class SpaceReserve {
   private:
     std::string path_;
 };
+
+/// Device and inode of `file` ({0, 0} when it cannot be reached): the file a name leads to.
+std::array<std::uint64_t, 2> file_identity(const std::string& file);
 
 } // namespace pd

@@ -294,6 +294,7 @@ class Packer {
             // Once many grains in a row found no room the pack is jammed: stop trying.
             const std::size_t tries = failures_in_a_row >= 20 ? 0 : opt_.attempts_per_grain;
             for (std::size_t t = 0; t < tries && !placed; ++t) {
+                spend(1);
                 const Vec3 p = sample(g_[i].radius);
                 if (free_of_overlap(p, g_[i].radius, n) && fits_container(p, g_[i].radius)) {
                     g_[i].center = p;
@@ -317,6 +318,7 @@ class Packer {
             Vec3 best{0, 0, 0};
             double best_pen = std::numeric_limits<double>::infinity();
             for (int t = 0, found = 0; found < 16 && t < 100000; ++t) {
+                spend(1);
                 const Vec3 p = sample(g_[i].radius);
                 if (!fits_container(p, g_[i].radius))
                     continue;
@@ -344,6 +346,7 @@ class Packer {
     std::size_t relax(std::size_t relaxed) {
         std::size_t sweeps = 1;
         for (; sweeps <= opt_.max_relax_sweeps; ++sweeps) {
+            spend(static_cast<double>(g_.size()));
             grid_.clear();
             for (std::size_t i = 0; i < g_.size(); ++i)
                 grid_.insert(static_cast<std::int32_t>(i), g_[i].center);
@@ -377,6 +380,15 @@ class Packer {
     }
 
   private:
+    /// Counts grain steps against opt.max_work.
+    void spend(double steps) {
+        work_ += steps;
+        if (opt_.max_work > 0 && work_ > opt_.max_work)
+            throw fail(fmt::format("gave up after {:.3g} placement tries and relaxation steps "
+                                   "(the limit grows with the node limit, pd-pack --max-nodes)",
+                                   work_));
+    }
+
     /// Push targets carry a relative margin so that rounding cannot leave a pair a hair short.
     static constexpr double margin = 1e-9;
 
@@ -480,6 +492,7 @@ class Packer {
     std::array<double, 6> box_;
     double rmax_, requested_;
     Grid grid_;
+    double work_ = 0;
 };
 
 } // namespace

@@ -38,6 +38,9 @@ struct PackOptions {
     std::size_t attempts_per_grain = 2000; ///< random sequential addition tries per grain
     bool relax = true;                     ///< place the rest by overlap relaxation
     std::size_t max_relax_sweeps = 100000; ///< give up (InputError) after this many sweeps
+    /// Give up (InputError) after this many grain steps (a placement try, a least-overlap try,
+    /// a grain in a relaxation sweep); 0: no limit. pd-pack: 50 per node of its node limit.
+    double max_work = 0;
 };
 
 /// What random_pack did (for logs and benchmarks).

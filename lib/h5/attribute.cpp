@@ -70,6 +70,18 @@ void File::set_attr(const std::string& path, const std::string& name,
                [&](const std::string& w) { fail(path, w); });
 }
 
+void File::check_attr_size(hid a, const std::string& path, const std::string& name, double elements,
+                           std::size_t bytes_each) const {
+    const double bytes = elements * static_cast<double>(bytes_each);
+    const double stored = static_cast<double>(H5Aget_storage_size(a));
+    if (elements >= 0 && (bytes <= 64.0 * 1024 * 1024 || bytes <= 1100.0 * stored))
+        return;
+    throw Error(name_, path,
+                fmt::format("attribute '{}' declares {:.4g} values but stores {:.4g} bytes: "
+                            "refused before allocating (a damaged or forged file)",
+                            name, elements, stored));
+}
+
 template <Element T>
 std::vector<T> File::attr_vector(const std::string& path, const std::string& name) const {
     if (!has_attr(path, name))
@@ -80,6 +92,7 @@ std::vector<T> File::attr_vector(const std::string& path, const std::string& nam
     Handle ft(H5Aget_type(a.get()));
     if (H5Tget_class(ft.get()) == H5T_STRING)
         throw Error(name_, path, "attribute '" + name + "' holds a string, expected numbers");
+    check_attr_size(a.get(), path, name, static_cast<double>(n), sizeof(T));
     std::vector<T> v(static_cast<std::size_t>(n));
     if (H5Aread(a.get(), native<T>(), v.data()) < 0)
         fail(path, "cannot read attribute " + name);
@@ -110,7 +123,9 @@ std::vector<std::string> File::attr_strings(const std::string& path,
     if (H5Tget_class(ft.get()) != H5T_STRING)
         throw Error(name_, path, "attribute '" + name + "' is not a string");
     Handle sp(H5Aget_space(a.get()));
-    const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(sp.get()));
+    const auto npoints = H5Sget_simple_extent_npoints(sp.get());
+    check_attr_size(a.get(), path, name, static_cast<double>(npoints), sizeof(char*));
+    const auto n = static_cast<std::size_t>(npoints);
     std::vector<std::string> v;
     v.reserve(n);
     if (H5Tis_variable_str(ft.get()) > 0) {

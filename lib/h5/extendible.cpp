@@ -22,6 +22,10 @@ std::vector<T> File::read_rows(const std::string& path, std::uint64_t row0,
     cnt[0] = count;
     Handle fs(H5Dget_space(d.get()));
     H5Sselect_hyperslab(fs.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
+    double elements = 1;
+    for (auto n : cnt)
+        elements *= static_cast<double>(n);
+    check_read_size(d.get(), path, elements, sizeof(T));
     Handle ms(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
     std::vector<T> out(product(dims_t(cnt.begin(), cnt.end())));
     if (!out.empty() &&

@@ -9,23 +9,32 @@
 #include <cstring>
 #include <functional>
 #include <numeric>
+#include <sys/stat.h>
 
 namespace pd::h5 {
 
 namespace {
 
+struct Stack {
+    std::string text;
+    bool disk_full = false;
+};
+
 herr_t walk_cb(unsigned n, const H5E_error2_t* e, void* data) {
-    auto* s = static_cast<std::string*>(data);
+    auto* s = static_cast<Stack*>(data);
     if (n < 3 && e->desc && *e->desc)
-        *s += (s->empty() ? "" : "; ") + std::string(e->desc);
+        s->text += (s->text.empty() ? "" : "; ") + std::string(e->desc);
+    // The system's reason, at the bottom of the stack: a full disk is said as such.
+    if (e->desc && (std::strstr(e->desc, "errno = 28,") || std::strstr(e->desc, "No space left")))
+        s->disk_full = true;
     return 0;
 }
 
 std::string error_stack() {
-    std::string s;
+    Stack s;
     H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_cb, &s);
     H5Eclear2(H5E_DEFAULT);
-    return s;
+    return s.disk_full ? "disk full: No space left on device; " + s.text : s.text;
 }
 
 struct SilenceHdf5 {
@@ -89,6 +98,31 @@ bool is_hdf5(const std::string& name) {
     htri_t r = H5Fis_hdf5(name.c_str());
     H5Eclear2(H5E_DEFAULT);
     return r > 0;
+}
+
+void File::check_read_size(hid d, const std::string& path, double elements,
+                           std::size_t bytes_each) const {
+    const double bytes = elements * static_cast<double>(bytes_each);
+    if (bytes <= 64.0 * 1024 * 1024)
+        return;
+    const double stored = static_cast<double>(H5Dget_storage_size(d));
+    hsize_t file_size = 0;
+    H5Fget_filesize(id_.get(), &file_size);
+    if (bytes <= 1100.0 * std::min(stored, static_cast<double>(file_size)))
+        return;
+    throw Error(name_, path,
+                fmt::format("declares {:.4g} values ({:.4g} bytes) but stores {:.4g} bytes in a "
+                            "file of {} bytes: refused before allocating (a damaged or forged "
+                            "file)",
+                            elements, bytes, stored, file_size));
+}
+
+void File::check_storage(const std::string& path) const {
+    Handle d = open_dataset(path);
+    double elements = 1;
+    for (auto n : shape(path))
+        elements *= static_cast<double>(n);
+    check_read_size(d.get(), path, elements, type_size(path));
 }
 
 void File::fail(const std::string& path, const std::string& what) const {
@@ -157,6 +191,17 @@ File::File(const std::string& name, Mode mode, const void* mpi_comm)
     id_ = Handle(id);
     if (mode != Mode::create_truncate)
         refuse_links_elsewhere(id, name_);
+    struct stat st {};
+    if (::stat(name_.c_str(), &st) == 0) {
+        dev_ = static_cast<std::uint64_t>(st.st_dev);
+        ino_ = static_cast<std::uint64_t>(st.st_ino);
+    }
+}
+
+bool File::still_named() const {
+    struct stat st {};
+    return ::stat(name_.c_str(), &st) == 0 && static_cast<std::uint64_t>(st.st_dev) == dev_ &&
+           static_cast<std::uint64_t>(st.st_ino) == ino_;
 }
 
 void File::flush() {
@@ -410,6 +455,10 @@ std::vector<T> File::read(const std::string& path, dims_t* dims) const {
     dims_t sh = shape(path);
     if (type_class(path) == 's')
         throw Error(name_, path, "holds strings, expected numbers");
+    double elements = 1;
+    for (auto n : sh)
+        elements *= static_cast<double>(n);
+    check_read_size(d.get(), path, elements, sizeof(T));
     std::vector<T> out(product(sh));
     if (!out.empty() &&
         H5Dread(d.get(), native<T>(), H5S_ALL, H5S_ALL, xfer_.get(), out.data()) < 0)

@@ -74,6 +74,9 @@ class File {
     ~File() = default;
 
     const std::string& name() const { return name_; }
+    /// True while the file's name still leads to the file opened (same device and inode): false
+    /// once it was renamed, removed or replaced during the run.
+    bool still_named() const;
     bool parallel() const { return parallel_; }
     /// Writes every buffer to disk; throws Error if HDF5 or the disk (ENOSPC, EIO) fails.
     void flush();
@@ -115,6 +118,9 @@ class File {
     template <Element T>
     T read_scalar(const std::string& path) const;
     std::string read_string(const std::string& path) const;
+    /// Refuses (Error) dataset `path` whose declared size the file cannot hold (as a whole read
+    /// does): for readers that scan a dataset in blocks of rows.
+    void check_storage(const std::string& path) const;
     /// Reads rows [row0, row0+count) along axis 0.
     template <Element T>
     std::vector<T> read_rows(const std::string& path, std::uint64_t row0,
@@ -179,8 +185,18 @@ class File {
     /// Under MPI-IO, empties both selections on every rank but 0.
     void root_only(hid file_space, hid mem_space) const;
     [[noreturn]] void fail(const std::string& path, const std::string& what) const;
+    /// Refuses (Error) a read of `elements` values of `bytes_each` from dataset `d` at `path`
+    /// that the file cannot hold: above 64 MiB and more than 1100 x the bytes the dataset stores
+    /// (gzip's best ratio is about 1030), e.g. a huge declared, never-written dataset. Checked
+    /// before anything is allocated.
+    void check_read_size(hid d, const std::string& path, double elements,
+                         std::size_t bytes_each) const;
+    /// The same for attribute `a` (`name`) of the object at `path`.
+    void check_attr_size(hid a, const std::string& path, const std::string& name, double elements,
+                         std::size_t bytes_each) const;
 
     std::string name_;
+    std::uint64_t dev_ = 0, ino_ = 0; ///< the file opened (still_named)
     bool parallel_ = false;
     int rank_ = 0;
     FileLock lock_; ///< pdgrain's lock (writers; rank 0 under MPI); released after id_ closes

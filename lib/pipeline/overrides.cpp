@@ -3,6 +3,7 @@
 
 #include "core/errors.hpp"
 #include "pipeline/scene.hpp"
+#include "pipeline/scene/fields.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -86,16 +87,7 @@ std::string keys_of(const json& o) {
 
 Resolved apply_overrides(const std::string& text, const std::string& source,
                          const std::vector<std::string>& sets) {
-    json root;
-    try {
-        root = json::parse(text, nullptr, true, /*ignore_comments=*/true);
-    } catch (const json::parse_error& e) {
-        // The place, never the bytes read (nlohmann's "; last read: '...'"): a file that is
-        // not a scene is not echoed.
-        std::string why = e.what();
-        why = why.substr(0, why.find("; last read"));
-        throw InputError(fmt::format("{}: not valid JSON (byte {}): {}", source, e.byte, why));
-    }
+    json root = scene::parse_json(text, source);
     json record = json::object();
     for (const auto& set : sets) {
         const auto eq = set.find('=');
@@ -105,11 +97,8 @@ Resolved apply_overrides(const std::string& text, const std::string& source,
                                          set));
         const std::string path = set.substr(0, eq), raw = set.substr(eq + 1);
         json value;
-        try {
-            value = json::parse(raw);
-        } catch (const json::parse_error&) {
+        if (!scene::parse_json_value(raw, fmt::format("--set {}", path), value))
             value = raw; // a bare word: a string
-        }
         const auto parts = split_path(path);
         if (parts.empty())
             throw ConfigError(path, "--set: empty path");

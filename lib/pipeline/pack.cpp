@@ -92,6 +92,22 @@ void warn_sparse_families(const model::Model& m, const Log& log) {
              m.dimension == 3 ? 113 : 28);
 }
 
+/// The file written, read back as pd-solve reads it (store::read_model: every range and
+/// cross-reference of data-schema/pd-file.md section 7): pd-pack refuses what pd-solve would.
+void verify_packed(const std::string& tmp, const std::string& output) {
+    try {
+        const h5::File f(tmp, h5::Mode::read);
+        (void)store::read_model(f, true);
+    } catch (const InputError& e) {
+        std::string why = e.what();
+        if (why.rfind(tmp, 0) == 0)
+            why = output + why.substr(tmp.size());
+        throw InputError(fmt::format("{} (the model built is one pd-solve would refuse: "
+                                     "nothing written)",
+                                     why));
+    }
+}
+
 /// Writes the packed model under a temporary name and renames it into place: a failed write
 /// (full disk) leaves any previous output as it was. The temporary file is created exclusively
 /// (never through a link planted under its name).
@@ -119,6 +135,7 @@ void write_packed(const model::Model& m, const std::string& output, Context& ctx
             }
             reserve.release();
         }
+        verify_packed(tmp, output);
         std::filesystem::rename(tmp, output);
     } catch (...) {
         std::error_code ec;
@@ -209,7 +226,8 @@ void pack(const PackOptions& opt, Context& ctx) {
     // The output may be a file another tool is running on (an MPI pd-solve): refused before the
     // work, and held until the new file is renamed into place (issue 13).
     const FileLock output_lock = FileLock::acquire(opt.output);
-    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes_given ? opt.max_nodes : 0);
+    model::Model m = build_scene(text, source, ctx.log, opt.max_nodes_given ? opt.max_nodes : 0,
+                                 opt.allow_outside);
     warn_sparse_families(m, ctx.log);
     // The build has read every file the scene names: no output may be one of them (a deck's
     // .msh, a particle CSV, an STL), and none is written before this check.

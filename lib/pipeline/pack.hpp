@@ -25,6 +25,7 @@ struct PackOptions {
                           ///< 0: what fits in the available memory (pipeline/resources.hpp)
     bool max_nodes_given = false; ///< --max-nodes was given (then it must be >= 1)
     bool overwrite = false;       ///< -o may replace a pd-file holding results
+    bool allow_outside = false;   ///< the scene may name files outside its folder
     CommonOptions common;
 };
 

@@ -32,10 +32,13 @@ std::string human_bytes(double b) {
 
 } // namespace
 
+double bonds_per_node(double ratio, int dimension) {
+    return dimension == 3 ? 4.0 / 3.0 * std::numbers::pi * ratio * ratio * ratio
+                          : std::numbers::pi * ratio * ratio;
+}
+
 ResourceEstimate estimate_resources(double nodes, int dimension) {
-    const double m = 3; // horizon / mesh size of the usual discretisation
-    const double per_node =
-        dimension == 3 ? 4.0 / 3.0 * std::numbers::pi * m * m * m : std::numbers::pi * m * m;
+    const double per_node = bonds_per_node(3, dimension); // horizon 3 h, the usual one
     ResourceEstimate e;
     e.nodes = nodes;
     e.bonds = nodes * per_node;
@@ -81,6 +84,24 @@ void check_node_budget(double nodes, double max_nodes, int dimension, const std:
                                        "mesh_size or reduce the count, or raise --max-nodes if "
                                        "the machine can hold it",
                                        what, e.nodes, e.bonds, human_bytes(e.bytes), limit, why));
+}
+
+void check_bond_budget(double nodes, double bonds, double max_nodes, int dimension,
+                       const std::string& key, const std::string& what) {
+    const bool by_memory = !(max_nodes > 0);
+    const double limit_nodes = by_memory ? default_max_nodes(dimension) : max_nodes;
+    const double limit = limit_nodes * bonds_per_node(3, dimension);
+    if (bonds <= limit)
+        return;
+    const double bytes = nodes * bytes_per_node + bonds * bytes_per_bond;
+    throw ConfigError(key, fmt::format("{} is estimated at {:.3g} nodes and {:.3g} bonds ({} of "
+                                       "memory), above the limit of {:.3g} bonds ({:.3g} nodes "
+                                       "at horizon 3 h, {}): a smaller horizon or coarser "
+                                       "mesh_size, or raise --max-nodes if the machine can hold "
+                                       "it",
+                                       what, nodes, bonds, human_bytes(bytes), limit, limit_nodes,
+                                       by_memory ? "the default, from the memory available now"
+                                                 : "pd-pack --max-nodes"));
 }
 
 } // namespace pd::pipeline

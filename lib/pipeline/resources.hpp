@@ -26,4 +26,14 @@ double default_max_nodes(int dimension);
 void check_node_budget(double nodes, double max_nodes, int dimension, const std::string& key,
                        const std::string& what);
 
+/// Bonds per node of a regular grid at horizon = `ratio` x the node spacing (pi r^2 in 2D,
+/// 4/3 pi r^3 in 3D).
+double bonds_per_node(double ratio, int dimension);
+
+/// Throws ConfigError(`key`) when `bonds` (an estimate at the scene's own horizon) exceeds what
+/// the node limit allows at horizon 3 h (the limit x bonds_per_node(3)), or is not finite: a
+/// large horizon_factor multiplies the bonds, not the nodes.
+void check_bond_budget(double nodes, double bonds, double max_nodes, int dimension,
+                       const std::string& key, const std::string& what);
+
 } // namespace pd::pipeline

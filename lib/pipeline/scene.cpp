@@ -30,13 +30,13 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 namespace {
 model::Model build_scene_impl(const std::string& source_text, const std::string& source,
-                              const Log& log, double max_nodes);
+                              const Log& log, double max_nodes, bool allow_outside);
 } // namespace
 
 model::Model build_scene(const std::string& source_text, const std::string& source, const Log& log,
-                         double max_nodes) {
+                         double max_nodes, bool allow_outside) {
     try {
-        return build_scene_impl(source_text, source, log, max_nodes);
+        return build_scene_impl(source_text, source, log, max_nodes, allow_outside);
     } catch (const json::exception& e) { // a value of the wrong JSON type read without a check
         throw InputError(fmt::format("{}: {}", source, e.what()));
     }
@@ -44,22 +44,11 @@ model::Model build_scene(const std::string& source_text, const std::string& sour
 
 namespace {
 model::Model build_scene_impl(const std::string& source_text, const std::string& source,
-                              const Log& log, double max_nodes) {
+                              const Log& log, double max_nodes, bool allow_outside) {
     using scene::check_keys;
     using scene::number;
     using scene::text;
-    json root;
-    try {
-        root = json::parse(source_text, nullptr, true, /*ignore_comments=*/true);
-    } catch (const json::parse_error& e) {
-        // The place, never the bytes read (nlohmann's "; last read: '...'"): a file that is
-        // not a scene is not echoed.
-        std::string why = e.what();
-        why = why.substr(0, why.find("; last read"));
-        throw InputError(fmt::format("{}: not valid JSON (byte {}): {}", source, e.byte, why));
-    } catch (const json::exception& e) { // out_of_range 406: a number like 1e999
-        throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
-    }
+    const json root = scene::parse_json(source_text, source);
     check_keys(root, "",
                {"title", "dimension", "planar", "materials", "discretization", "shapes",
                 "particles", "walls", "cracks", "slots", "contact", "loading", "solver"});
@@ -69,7 +58,8 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     m.dimension = static_cast<int>(std::clamp(number(root, "", "dimension", 2), -1e9, 1e9));
     if (m.dimension != 2 && m.dimension != 3)
         throw ConfigError("dimension", fmt::format("{}: expected 2 or 3", m.dimension));
-    const std::string base_dir = std::filesystem::path(source).parent_path().string();
+    const scene::Folder base_dir{std::filesystem::path(source).parent_path().string(),
+                                 allow_outside};
     m.planar =
         text(root, "", "planar", "plane_stress", {"plane_stress", "plane_strain"}) == "plane_strain"
             ? model::Planar::plane_strain

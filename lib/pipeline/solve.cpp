@@ -9,10 +9,12 @@
 #include "core/file_lock.hpp"
 #include "core/timer.hpp"
 #include "h5/file.hpp"
+#include "pipeline/full_disk.hpp"
 #include "pipeline/partition.hpp"
 #include "pipeline/run/schedule.hpp"
 #include "pipeline/run/signals.hpp"
 #include "pipeline/simulation.hpp"
+#include "pipeline/solve_checks.hpp"
 #include "solver/solver.hpp"
 #include "store/checkpoint_io.hpp"
 #include "store/frames.hpp"
@@ -32,48 +34,6 @@
 namespace pd::pipeline {
 
 namespace {
-
-/// Command-line values: finite, in range (CLI11 only parses them).
-void check_options(const SolveOptions& opt) {
-    if (opt.max_steps_given && opt.max_steps < 1)
-        throw InputError(fmt::format("--steps {}: must be at least 1", opt.max_steps));
-    if (opt.final_time_given && !(std::isfinite(opt.final_time) && opt.final_time > 0))
-        throw InputError(
-            fmt::format("--final-time {}: must be a finite time > 0 (s)", opt.final_time));
-    if (!(std::isfinite(opt.energy_tolerance) && opt.energy_tolerance >= 0))
-        throw InputError(fmt::format("--energy-tolerance {}: must be a finite fraction >= 0",
-                                     opt.energy_tolerance));
-    if (!(opt.checkpoint_wall_seconds >= 0))
-        throw InputError(fmt::format("--checkpoint-every-wall {}: must be >= 0 (s)",
-                                     opt.checkpoint_wall_seconds));
-    if (!(opt.progress_seconds >= 0))
-        throw InputError(
-            fmt::format("--progress-every {}: must be >= 0 (s)", opt.progress_seconds));
-    if (opt.compress < 0 || opt.compress > 9)
-        throw InputError(fmt::format("--compress {}: must be 0-9", opt.compress));
-}
-
-/// A fresh run deletes the frames, observables and checkpoints of a file: only with --overwrite.
-void refuse_existing_results(const h5::File& rf, const std::string& file) {
-    std::string what;
-    if (rf.exists(std::string(store::path::particles) + "/position/value")) {
-        const store::FrameReader fr(rf);
-        what = fmt::format("{} frame{}", fr.num_frames(), fr.num_frames() == 1 ? "" : "s");
-        if (fr.num_frames() > 0)
-            what += fmt::format(" (up to step {}, t = {:.6g} s)", fr.step(fr.num_frames() - 1),
-                                fr.time(fr.num_frames() - 1));
-    }
-    if (rf.exists(store::path::checkpoints) && !rf.list(store::path::checkpoints).empty())
-        what += (what.empty() ? "" : " and ") + std::string("a checkpoint");
-    else if (rf.exists(store::path::observables) && what.empty())
-        what = "observables";
-    if (what.empty())
-        return;
-    throw InputError(fmt::format("{}: already holds the results of a run: {}. Continue it with "
-                                 "--restart (add --final-time T to go further), or pass "
-                                 "--overwrite to delete them and start again from t = 0",
-                                 file, what));
-}
 
 /// What the open phase read (every rank alike, up to this rank's rows of the bond list).
 struct Input {
@@ -262,9 +222,17 @@ void prepare_file(const SolveOptions& opt, Context& ctx, const Input& in, const 
     // Provenance: by rank 0 alone, once the run's (parallel) file is closed. Set only now, as the
     // run starts changing the file: a run refused before (a check, too little disk space) leaves
     // the file as it was, byte for byte.
-    ctx.on_exit = [&ctx, file = opt.file, held](int code) {
+    // A file renamed, removed or replaced during the run gets no record (was: exit 4).
+    const auto id = ctx.rank == 0 ? file_identity(opt.file) : std::array<std::uint64_t, 2>{};
+    ctx.on_exit = [&ctx, file = opt.file, held, id](int code) {
         if (ctx.rank != 0)
             return;
+        if (file_identity(file) != id) {
+            ctx.log.warn("{}: renamed, removed or replaced during the run: the run is not "
+                         "recorded in its /provenance",
+                         file);
+            return;
+        }
         h5::File f(file, h5::Mode::read_write);
         store::append_provenance(f, ctx.run, code);
     };
@@ -381,8 +349,11 @@ struct Simulation::Impl {
 
     /// Phase 3's errors: those every rank sees alike unwind; any other one aborts the ranks.
     void fail(const std::exception& e) {
+        const bool full = !par && f && disk_full(e, opt.file);
         reserve.release(); // room for HDF5 to flush and close the file (full disk)
         ctx.errors_collective = agreed;
+        if (full)
+            end_on_full_disk(*f, e); // throws: the file cut back to its latest checkpoint
         if (par && !agreed) {
             ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));
             MPI_Abort(comm, dynamic_cast<const InputError*>(&e)       ? exit_input

@@ -34,8 +34,9 @@ template <class T>
 std::vector<T> get(const h5::File& f, const std::string& p, const dims_t& want) {
     if (!f.exists(p))
         throw SchemaError(f.name(), p, "missing dataset");
-    dims_t got;
-    auto v = f.read<T>(p, &got);
+    // The shape first: nothing is allocated for a dataset of the wrong shape (a huge declared
+    // one included); the read itself refuses a size the file cannot hold (h5::File::read).
+    const dims_t got = f.shape(p);
     bool ok = got.size() == want.size();
     for (std::size_t i = 0; ok && i < want.size(); ++i)
         ok = want[i] == 0 || want[i] == got[i];
@@ -50,6 +51,7 @@ std::vector<T> get(const h5::File& f, const std::string& p, const dims_t& want) 
                           fmt::format("shape {}, expected {} (pd-file {})", fmt_dims(got),
                                       fmt_dims(want), schema_version));
     }
+    auto v = f.read<T>(p);
     if constexpr (std::is_floating_point_v<T>) {
         for (std::size_t i = 0; i < v.size(); ++i)
             if (!std::isfinite(v[i]))

@@ -115,8 +115,12 @@ void read_bodies(const h5::File& f, model::Model& m) {
     B.group = get<std::int32_t>(f, b + "/group", {nb});
     B.ref_mesh = get<std::int32_t>(f, b + "/ref_mesh", {nb});
     auto kind = get<std::uint8_t>(f, b + "/kind", {nb});
-    for (auto k : kind)
+    for (auto k : kind) {
+        if (k > static_cast<std::uint8_t>(model::BodyKind::wall)) // a cast: no such kind
+            throw SchemaError(f.name(), b + "/kind",
+                              fmt::format("{}: expected 0 (particle) or 1 (wall)", int(k)));
         B.kind.push_back(static_cast<model::BodyKind>(k));
+    }
     B.fixed = get<std::uint8_t>(f, b + "/fixed", {nb});
     B.center = get<double>(f, b + "/center", {nb, 3});
     B.bounding_radius = get<double>(f, b + "/bounding_radius", {nb});
@@ -431,6 +435,42 @@ void read_solver(const h5::File& f, model::Model& m) {
     check_solver(f, S);
 }
 
+/// The fields that depend on the dimension agree with it: a 2D file's positions, centres and
+/// velocities lie in the plane z = 0 and its meshes are of triangles or quadrangles; a 3D file's
+/// meshes are of tetrahedra or hexahedra; each body's mesh index exists and has its node count.
+void check_dimension(const h5::File& f, const model::Model& m) {
+    const bool plane = m.dimension == 2;
+    auto flat = [&](const std::vector<double>& v, const std::string& p) {
+        for (std::size_t i = 2; i < v.size(); i += 3) // 0, up to the rounding of a rotation
+            if (plane && std::abs(v[i]) > 1e-12 * (std::abs(v[i - 2]) + std::abs(v[i - 1])))
+                throw SchemaError(f.name(), p,
+                                  fmt::format("row {}: z = {:g} in a 2D file (attribute "
+                                              "dimension = 2; z must be 0)",
+                                              i / 3, v[i]));
+    };
+    flat(m.nodes.x0, std::string(path::nodes) + "/reference_position");
+    flat(m.bodies.center, std::string(path::bodies) + "/center");
+    flat(m.bodies.initial_velocity, std::string(path::bodies) + "/initial_velocity");
+    for (std::size_t k = 0; k < m.ref_meshes.size(); ++k) {
+        const auto& rm = m.ref_meshes[k];
+        const std::string g = fmt::format("{}/mesh_{}", path::reference_meshes, k);
+        flat(rm.nodes, g + "/nodes");
+        const int npc = rm.nodes_per_cell;
+        if (plane ? npc != 3 && npc != 4 : npc != 4 && npc != 8)
+            throw SchemaError(f.name(), g + "/cells",
+                              fmt::format("{} nodes per cell in a {}D file (expected {})", npc,
+                                          m.dimension, plane ? "3 or 4" : "4 or 8"));
+    }
+    const auto& B = m.bodies;
+    for (std::size_t b = 0; b < B.num() && !m.ref_meshes.empty(); ++b) {
+        const auto r = B.ref_mesh[b];
+        if (r < 0 || static_cast<std::size_t>(r) >= m.ref_meshes.size())
+            throw SchemaError(f.name(), std::string(path::bodies) + "/ref_mesh",
+                              fmt::format("body {}: mesh {} does not exist ({} meshes)", b, r,
+                                          m.ref_meshes.size()));
+    }
+}
+
 } // namespace
 
 model::Model read_model(const h5::File& f, bool neighbors) {
@@ -441,6 +481,11 @@ model::Model read_model(const h5::File& f, bool neighbors) {
         throw SchemaError(f.name(), "/",
                           fmt::format("attribute dimension = {}, expected 2 or 3", m.dimension));
     const std::string planar = f.attr_string("/", "planar");
+    if (planar != "plane_stress" && planar != "plane_strain" &&
+        (planar != "none" || m.dimension != 3))
+        throw SchemaError(f.name(), "/",
+                          fmt::format("attribute planar: expected plane_stress or plane_strain{}",
+                                      m.dimension == 3 ? " or none" : " in a 2D file"));
     m.planar = planar == "plane_strain" ? model::Planar::plane_strain : model::Planar::plane_stress;
     m.title = f.has_attr("/", "title") ? f.attr_string("/", "title") : "";
     m.scene_json = f.exists(path::parameters_scene) ? f.read_string(path::parameters_scene) : "";
@@ -455,6 +500,7 @@ model::Model read_model(const h5::File& f, bool neighbors) {
     read_loading(f, m);
     read_cracks(f, m);
     read_solver(f, m);
+    check_dimension(f, m);
     m.check_consistency();
     return m;
 }

@@ -383,7 +383,7 @@ def test_pack_count_1e9(bin_dir, tmp_path):
     assert not (tmp_path / "out.h5").exists()
 
 
-@pytest.mark.parametrize("counts, culprit", [(["a", 2], "type must be number"), ([-1, 2], "counts")])
+@pytest.mark.parametrize("counts, culprit", [(["a", 2], "counts[0]"), ([-1, 2], "counts")])
 def test_pack_lattice_counts_bad(bin_dir, tmp_path, counts, culprit):
     gen = {
         "generate": "lattice",

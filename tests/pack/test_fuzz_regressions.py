@@ -24,6 +24,16 @@ EXPECTED = {
     "contact_pair_groups_1e300.json": ["contact.pairs[0].groups", "in group 1000000000 or 0"],
     # a negative seed was cast to uint64 (undefined) and the lattice packed with exit 0
     "lattice_seed_negative.json": ["particles[0].seed", "from 0 to 2^53"],
+    # issue 27, bounded work (the fuzz_scene timeouts' kinds): a lattice of a shape that is not
+    # defined counted 0 nodes a grain and generated 1e10 grains; a count of 1e300 was cast to
+    # size_t (undefined); a 1e9 m x 1e-9 m rectangle has 1 node of area and 2e9 along its
+    # boundary (gmsh); horizon_factor 300 multiplies the bonds (81 s, then bad_alloc); 65
+    # nested arrays (a deep scene's dump grew quadratically).
+    "lattice_undefined_shape_1e10_grains.json": ["particles[0].counts", "--max-nodes"],
+    "lattice_count_1e300.json": ["particles[0].counts[0]", "whole number"],
+    "thin_rectangle_long_boundary.json": ["shapes.thin", "--max-nodes"],
+    "horizon_factor_300_bonds.json": ["discretization.horizon_factor", "bonds"],
+    "nesting_65_levels.json": ["nested more than 64 levels"],
 }
 
 

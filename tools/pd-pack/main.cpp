@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
                  "with --print-scene: fill in every default the scene leaves out "
                  "(data-schema/scene.schema.json)")
         ->needs(print);
+    app.add_flag("--allow-outside", opt.allow_outside,
+                 "let the scene (or deck) name files outside its folder (.., absolute paths, "
+                 "links pointing out); without it they are refused");
     app.add_option("--preview", opt.preview, "draw the packed scene to this PNG (matplotlib)");
     auto* max_nodes = app.add_option("--max-nodes", opt.max_nodes,
                                      "refuse a scene estimated (before meshing or packing) above "

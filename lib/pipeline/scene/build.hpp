@@ -59,7 +59,7 @@ struct Discretization {
 
 /// What the steps share while the model `m` is built.
 struct SceneBuild {
-    SceneBuild(const json& root_, const Log& log_, double max_nodes_, std::string base_dir_,
+    SceneBuild(const json& root_, const Log& log_, double max_nodes_, Folder base_dir_,
                model::Model& m_)
         : root(root_)
         , log(log_)
@@ -70,7 +70,7 @@ struct SceneBuild {
     const json& root;
     const Log& log;
     double max_nodes;
-    std::string base_dir; ///< the scene file's folder (relative files)
+    Folder base_dir; ///< the scene file's folder (relative files)
     model::Model& m;
     std::map<std::string, std::int32_t> material_index;
     Discretization dz;
@@ -112,6 +112,6 @@ void parse_solver(SceneBuild& s);
 
 /// A shape (a container, a named shape's geometry); relative surface_mesh files are resolved
 /// against `base` (the scene file's folder) (shapes.cpp).
-geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const std::string& base);
+geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const Folder& base);
 
 } // namespace pd::pipeline::scene

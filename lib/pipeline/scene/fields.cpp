@@ -112,9 +112,77 @@ std::string text(const json& o, const std::string& where, const std::string& key
     return s;
 }
 
-std::string resolve(const std::string& base, const std::string& file) {
-    std::filesystem::path p(file);
-    return p.is_absolute() || base.empty() ? file : (std::filesystem::path(base) / p).string();
+namespace {
+
+struct TooDeep {};
+
+/// nlohmann's parse with a callback that stops at max_json_depth (the parser is iterative; the
+/// callback sees each value's depth as it starts).
+json parse_limited(const std::string& text, const std::string& source, bool comments) {
+    if (text.size() > max_json_bytes)
+        throw InputError(fmt::format("{}: {} bytes, above the limit of {} bytes for a scene",
+                                     source, text.size(), max_json_bytes));
+    const json::parser_callback_t cb = [](int depth, json::parse_event_t event, json&) {
+        if ((event == json::parse_event_t::object_start ||
+             event == json::parse_event_t::array_start) &&
+            depth >= max_json_depth)
+            throw TooDeep{};
+        return true;
+    };
+    try {
+        return json::parse(text, cb, true, comments);
+    } catch (const TooDeep&) {
+        throw InputError(fmt::format("{}: nested more than {} levels deep (objects and arrays): "
+                                     "refused before it is read further",
+                                     source, max_json_depth));
+    }
+}
+
+} // namespace
+
+json parse_json(const std::string& text, const std::string& source) {
+    try {
+        return parse_limited(text, source, /*comments=*/true);
+    } catch (const json::parse_error& e) {
+        // The place, never the bytes read (nlohmann's "; last read: '...'"): a file that is
+        // not a scene is not echoed.
+        std::string why = e.what();
+        why = why.substr(0, why.find("; last read"));
+        throw InputError(fmt::format("{}: not valid JSON (byte {}): {}", source, e.byte, why));
+    } catch (const json::exception& e) { // out_of_range 406: a number like 1e999
+        throw InputError(fmt::format("{}: not valid JSON: {}", source, e.what()));
+    }
+}
+
+bool parse_json_value(const std::string& text, const std::string& source, json& out) {
+    try {
+        out = parse_limited(text, source, /*comments=*/false);
+        return true;
+    } catch (const json::parse_error&) {
+        return false;
+    } catch (const json::exception& e) {
+        throw InputError(fmt::format("{}: {}", source, e.what()));
+    }
+}
+
+std::string resolve(const Folder& base, const std::string& file, const std::string& key) {
+    namespace fs = std::filesystem;
+    const fs::path p(file);
+    const std::string path =
+        p.is_absolute() || base.dir.empty() ? file : (fs::path(base.dir) / p).string();
+    if (base.outside)
+        return path;
+    std::error_code ec;
+    const fs::path dir = base.dir.empty() ? fs::path(".") : fs::path(base.dir);
+    const fs::path root = fs::weakly_canonical(fs::absolute(dir, ec), ec);
+    const fs::path target = fs::weakly_canonical(fs::absolute(fs::path(path), ec), ec);
+    const fs::path rel = target.lexically_relative(root);
+    if (ec || rel.empty() || *rel.begin() == "..")
+        throw ConfigError(key, fmt::format("'{}' lies outside the folder of the scene ({}): a "
+                                           "path that leaves it (by .., an absolute path or a "
+                                           "link) needs pd-pack --allow-outside",
+                                           file, dir.string()));
+    return path;
 }
 
 } // namespace pd::pipeline::scene

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace pd::pipeline::scene {
@@ -26,6 +27,7 @@ class ParticleParser {
         , shape_order(s.shape_order)
         , inst(s.inst)
         , material_index(s.material_index)
+        , dz(s.dz)
         , user_disc(shapes.count("disc") > 0) {}
 
     /// particles[k]: one grain, or the grains of a generator.
@@ -67,45 +69,90 @@ class ParticleParser {
         add_grains(p, w, grains, names);
     }
 
-    /// Refuses a scene whose node estimate is above max_nodes, before any meshing.
+    /// Refuses a scene whose node or bond estimate is above the limit, before any meshing.
     void check_estimate() const {
         if (inst.empty())
             throw ConfigError("particles", "no particle was placed");
-        {
-            // Each shape's mesh once, then every grain: refused before any meshing.
-            std::map<std::string, double> per_shape;
-            double total = 0;
-            for (const auto& d : inst) {
-                auto [it, fresh] = per_shape.try_emplace(d.shape, 0.0);
-                if (fresh) {
-                    it->second = shape_nodes(d.shape, d.radius);
-                    const bool disc = d.shape == "disc" && !user_disc;
-                    too_many(it->second, disc ? d.where + ".radius" : "shapes." + d.shape,
-                             disc ? fmt::format("a disc of radius {:g} m at mesh_size {:g} m",
-                                                d.radius, h_ref)
-                                  : fmt::format("shape '{}'", d.shape));
-                }
-                total += it->second;
+        // Each shape's mesh once, then every grain: refused before any meshing.
+        std::map<std::string, double> per_shape;
+        double total = 0, bonds = 0;
+        for (const auto& d : inst) {
+            auto [it, fresh] = per_shape.try_emplace(d.shape, 0.0);
+            if (fresh) {
+                it->second = shape_nodes(d.shape, d.radius);
+                const bool disc = d.shape == "disc" && !user_disc;
+                too_many(it->second, disc ? d.where + ".radius" : "shapes." + d.shape,
+                         disc ? fmt::format("a disc of radius {:g} m at mesh_size {:g} m", d.radius,
+                                            h_ref)
+                              : fmt::format("shape '{}'", d.shape));
             }
-            too_many(total, "particles",
-                     fmt::format("the scene ({} grains; discretization.mesh_size {:g} m)",
-                                 inst.size(), h_ref));
+            total += it->second;
+            bonds +=
+                it->second * std::min(it->second - 1, bonds_per_node(ratio_of(d), m.dimension));
         }
+        too_many(total, "particles",
+                 fmt::format("the scene ({} grains; discretization.mesh_size {:g} m)", inst.size(),
+                             h_ref));
+        check_bond_budget(total, bonds, max_nodes, m.dimension, dz.horizon_key,
+                          fmt::format("the scene ({} grains; discretization.mesh_size {:g} m, "
+                                      "horizon up to {:.3g} x the mesh size)",
+                                      inst.size(), h_ref, max_ratio()));
     }
 
   private:
+    /// Horizon / node spacing of grain `d` (place_grains: an absolute horizon or
+    /// horizon_factor x the nominal mesh size, against the grain's scaled spacing).
+    double ratio_of(const Instance& d) const {
+        const auto it = shapes.find(d.shape);
+        const double bound = it == shapes.end() ? 0 : it->second.shape.bounding_radius();
+        const double s = d.radius > 0 && bound > 0 ? d.radius / bound : 1.0;
+        const double h =
+            it != shapes.end() && it->second.mesh_size > 0 ? it->second.mesh_size : h_ref;
+        return dz.has_h   ? dz.horizon_abs / (h * s)
+               : dz.has_m ? dz.horizon_factor / s
+                          : dz.horizon_factor;
+    }
+    double max_ratio() const {
+        double r = 0;
+        for (const auto& d : inst)
+            r = std::max(r, ratio_of(d));
+        return r;
+    }
+
+    /// Nodes of shape `name`'s mesh: area / h^2 (volume / h^3), at least 1 (a shape meshed from
+    /// a file or not yet known counts 1: a lower bound, so that a grain count alone is bounded).
     double shape_nodes(const std::string& name, double radius) const {
         const bool disc = name == "disc" && !user_disc;
         if (!disc && !shapes.count(name))
-            return 0.0;
+            return 1.0;
         const ShapeSpec* sp = disc ? nullptr : &shapes.at(name);
         if (sp && sp->method == "file")
-            return 0.0; // the file's own size
+            return 1.0; // the file's own size
         const double h = sp && sp->mesh_size > 0 ? sp->mesh_size : h_ref;
         const double size = disc ? std::numbers::pi * std::pow(radius, m.dimension) *
                                        (m.dimension == 3 ? 4.0 / 3.0 : 1.0)
                                  : sp->shape.area_or_volume();
-        return std::max(1.0, size / std::pow(h, m.dimension));
+        double nodes = std::max(1.0, size / std::pow(h, m.dimension));
+        if (!sp)
+            return nodes;
+        // A thin or hollow shape has few nodes per area but a long boundary, and the grid
+        // method visits every lattice point of the bounding box: both bounded too.
+        const auto b = sp->shape.bounding_box();
+        double boundary = 0, lattice = 1;
+        for (int k = 0; k < m.dimension; ++k) {
+            const double len =
+                (b[static_cast<std::size_t>(k) + 3] - b[static_cast<std::size_t>(k)]) / h;
+            lattice *= len + 1;
+            double face = 2;
+            for (int j = 0; j < m.dimension; ++j)
+                if (j != k)
+                    face *=
+                        (b[static_cast<std::size_t>(j) + 3] - b[static_cast<std::size_t>(j)]) / h +
+                        1;
+            boundary += face;
+        }
+        nodes = std::max(nodes, sp->method == "grid" ? lattice : boundary);
+        return std::isfinite(nodes) ? nodes : std::numeric_limits<double>::infinity();
     }
 
     void too_many(double estimate, const std::string& key, const std::string& what) const {
@@ -198,6 +245,8 @@ class ParticleParser {
             throw ConfigError(w + ".seed", "must be a number from 0 to 2^53");
         o.seed = static_cast<std::uint64_t>(number(p, w, "seed", 1));
         o.random_orientation = text(p, w, "orientation", "random", {"random", "zero"}) == "random";
+        // Placement tries and relaxation steps grow with the node limit, not without bound.
+        o.max_work = 50.0 * (max_nodes > 0 ? max_nodes : default_max_nodes(m.dimension));
         geometry::PackStats st;
         try {
             grains = geometry::random_pack(container, o, &st);
@@ -223,9 +272,18 @@ class ParticleParser {
         if (!p.contains("counts") || !p["counts"].is_array() ||
             p["counts"].size() != static_cast<std::size_t>(m.dimension))
             throw ConfigError(w + ".counts", "expected grain counts per axis");
-        for (int d = 0; d < m.dimension; ++d)
-            o.counts[static_cast<std::size_t>(d)] =
-                p["counts"][static_cast<std::size_t>(d)].get<std::size_t>();
+        double total = 1;
+        for (int d = 0; d < m.dimension; ++d) {
+            const json& c = p["counts"][static_cast<std::size_t>(d)];
+            if (!c.is_number() || !(c.get<double>() >= 0) || c.get<double>() > 1e15 ||
+                c.get<double>() != std::floor(c.get<double>())) // a cast of 1e300: undefined
+                throw ConfigError(fmt::format("{}.counts[{}]", w, d),
+                                  "expected a whole number of grains from 0 to 1e15");
+            o.counts[static_cast<std::size_t>(d)] = c.get<std::size_t>();
+            total *= c.get<double>();
+        }
+        // Every grain has a node at least: the count alone is bounded before anything else.
+        too_many(total, w + ".counts", fmt::format("{:.3g} grains", total));
         if (!p.contains("radius") || !p["radius"].is_array() || p["radius"].size() != 2)
             throw ConfigError(w + ".radius", "expected [rmin, rmax] (m)");
         o.rmin = p["radius"][0].get<double>();
@@ -261,7 +319,7 @@ class ParticleParser {
             throw ConfigError(w + ".shapes", "expected the list of shape names, by CSV index");
         for (const auto& n : p["shapes"])
             names.push_back(n.get<std::string>());
-        grains = geometry::read_particle_csv(resolve(base_dir, file));
+        grains = geometry::read_particle_csv(resolve(base_dir, file, w + ".file"));
     }
 
     /// The generated grains as instances of the generator's material, velocity and group.
@@ -288,7 +346,7 @@ class ParticleParser {
 
     const Log& log;
     const model::Model& m;
-    const std::string& base_dir;
+    const Folder& base_dir;
     const double h_ref;
     const double max_nodes;
     const json& root;
@@ -296,6 +354,7 @@ class ParticleParser {
     std::vector<std::string>& shape_order;
     std::vector<Instance>& inst;
     const std::map<std::string, std::int32_t>& material_index;
+    const Discretization& dz;
     // Node estimate before anything is meshed or packed (a mesh_size far too small, a huge
     // radius or count would run for minutes or exhaust memory): a reference shape gets about
     // area / h^2 (volume / h^3) nodes, and each grain is an instance of its shape's mesh.

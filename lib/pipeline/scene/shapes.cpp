@@ -84,7 +84,7 @@ std::optional<geometry::Shape> plane_shape(const std::string& type, const json& 
 
 /// The compounds (union, difference) and the 3D shapes.
 geometry::Shape other_shape(const std::string& type, const json& o, const std::string& w, int dim,
-                            const std::string& base) {
+                            const Folder& base) {
     auto pair = [&](const char* key) { return pair_of(o, w, key); };
     auto list = [&](const json& arr, const std::string& ww) {
         if (!arr.is_array() || arr.empty())
@@ -117,7 +117,7 @@ geometry::Shape other_shape(const std::string& type, const json& o, const std::s
             throw ConfigError(w + ".file", "missing: the STL file (ASCII or binary) of this "
                                            "surface_mesh, relative to the scene file");
         try {
-            return geometry::Shape::surface_mesh(resolve(base, file));
+            return geometry::Shape::surface_mesh(resolve(base, file, w + ".file"));
         } catch (const ConfigError&) {
             throw;
         } catch (const InputError& e) {
@@ -131,7 +131,7 @@ geometry::Shape other_shape(const std::string& type, const json& o, const std::s
 } // namespace
 
 /// A shape; relative surface_mesh files are resolved against `base` (the scene file's folder).
-geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const std::string& base) {
+geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const Folder& base) {
     check_keys(o, w, shape_keys);
     const auto type = text(o, w, "type", "",
                            {"circle", "ellipse", "triangle", "square", "hexagon", "regular_polygon",
@@ -164,7 +164,7 @@ geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const 
 
 namespace {
 
-ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim, const std::string& base) {
+ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim, const Folder& base) {
     // "file" (in shape_keys): a surface_mesh's STL, or the .msh of mesh "file".
     auto keys = shape_keys;
     keys.insert(keys.end(), {"mesh", "quads", "mesh_size"});
@@ -181,7 +181,9 @@ ShapeSpec parse_shape_spec(const json& o, const std::string& w, int dim, const s
         throw ConfigError(w + ".mesh", "a surface_mesh is meshed from its STL: use gmsh "
                                        "(tetrahedra) or grid");
     if (sp.method == "file") {
-        sp.file = resolve(base, text(o, w, "file", ""));
+        sp.file = text(o, w, "file", "").empty()
+                      ? std::string()
+                      : resolve(base, text(o, w, "file", ""), w + ".file");
         if (sp.file.empty())
             throw ConfigError(w + ".file", "missing: the .msh file of this shape");
     }
@@ -235,7 +237,7 @@ void parse_discretization(SceneBuild& s) {
 void parse_shapes(SceneBuild& s) {
     const json& root = s.root;
     const model::Model& m = s.m;
-    const std::string& base_dir = s.base_dir;
+    const Folder& base_dir = s.base_dir;
     auto& shapes = s.shapes;
     // Reference shapes: named in "shapes", or the implicit "disc" (a circle whose radius is the
     // first disc particle's).

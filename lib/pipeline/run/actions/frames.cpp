@@ -3,6 +3,8 @@
 // imbalance since the last frame (collective, as frames are), for the progress line.
 #include "store/frames.hpp"
 
+#include "core/errors.hpp"
+#include "h5/file.hpp"
 #include "pipeline/run/schedule.hpp"
 
 namespace pd::pipeline::run {
@@ -19,6 +21,7 @@ class Frames final : public Action {
         ScopedTimer t(timers, t_out_);
         r.obs.flush();
         write_frame(r);
+        check_named(r);
         if (r.par) {
             const double now = busy_seconds(timers), mine = now - busy_at_frame_;
             busy_at_frame_ = now;
@@ -28,6 +31,21 @@ class Frames final : public Action {
     }
 
   private:
+    /// After each frame (complete and flushed): a file renamed, removed or replaced under its
+    /// name ends the run (exit 2), the ranks agreeing on rank 0's look.
+    static void check_named(Run& r) {
+        double gone = r.ctx.rank == 0 && !r.file.still_named() ? 1.0 : 0.0;
+        if (r.par)
+            gone = r.s.domain().max(gone);
+        if (gone > 0)
+            throw InputError(fmt::format(
+                "{}: renamed, removed or replaced during the run: stopped at step {} after a "
+                "complete frame. A renamed file holds the run up to that frame (continue it "
+                "under its new name with --restart from its last checkpoint); a removed one is "
+                "gone when pd-solve exits",
+                r.opt.file, r.s.state().step));
+    }
+
     int t_out_;
     double busy_at_frame_ = 0;
 };

@@ -143,16 +143,48 @@ std::string penetration_numbers(const Run& r) {
            softer;
 }
 
+/// Contact at any speed, by a time-step limit from the velocities (the search does not sweep
+/// along a step): a node that moves R_c or more per step can pass a node of another grain
+/// between two steps unseen (head-on, the two close by up to 2 v dt, the contact zone is 2 R_c
+/// wide). Empty when every node is slower than R_c / dt (collective).
+std::string too_fast(const Run& r) {
+    double rc = std::numeric_limits<double>::infinity();
+    for (const auto& p : r.m.contact)
+        if (p.radius > 0)
+            rc = std::min(rc, p.radius);
+    if (!std::isfinite(rc))
+        return {};
+    const auto [fast, vmax] = fastest(r);
+    if (!(vmax * r.steps.dt >= rc))
+        return {};
+    return fmt::format("node {} of body {} moves at {:.4g} m/s, {:.4g} m per step (dt = {:.4g} "
+                       "s), not less than the smallest contact radius R_c = {:.4g} m: grains "
+                       "can pass through each other between two steps with no contact seen. "
+                       "The contact search needs v dt < R_c: dt below {:.4g} s (solver.dt or "
+                       "dt_safety) or slower grains (--no-penetration-check runs on)",
+                       fast, r.s.state().body[fast], vmax, vmax * r.steps.dt, r.steps.dt, rc,
+                       rc / vmax);
+}
+
 class Guards final : public Action {
   public:
     explicit Guards(Run& r)
         : Action(observation_trigger(r.steps)) {
         reference(r);
+        if (!r.opt.penetration_check)
+            return;
+        if (const auto why = too_fast(r); !why.empty()) // stopped before the first step
+            throw NumericalError(
+                fmt::format("{}: stopped before step {}: {}", r.opt.file, r.steps.first + 1, why));
     }
     void run(Run& r, std::int64_t n) override {
         finite(r, n);
         bounded(r, n);
         if (r.opt.penetration_check) {
+            if (const auto why = too_fast(r); !why.empty())
+                stop_with_row(r, n, "too fast for contact",
+                              fmt::format("{}: stopped at step {} (t = {:.6g} s): {}", r.opt.file,
+                                          n, r.s.state().time, why));
             inside(r, n);
             beyond_wall(r, n);
         }
