@@ -77,6 +77,28 @@ inline double wall_distance(const Wall& w, const double* x) {
     return w.shape == WallShape::circle_inside ? w.radius - r : r - w.radius;
 }
 
+/// above_grains: how far along its normal the surface of plane wall `w` may come towards node x
+/// of contact group `group`: x.n less the reach of their law (R_c of the node law, 0 for the
+/// surface law) and the wall's gap; +infinity when the wall does not touch that group.
+inline double entry_level(const Model& m, const Wall& w, std::int32_t group, const double* x) {
+    const auto* p = m.contact_between(group, w.group);
+    if (p == nullptr || !(p->stiffness > 0))
+        return HUGE_VAL;
+    return x[0] * w.normal[0] + x[1] * w.normal[1] + x[2] * w.normal[2] - p->offset() - w.gap;
+}
+
+/// above_grains: moves plane wall `w` rigidly (point and rotation centre) along its normal so
+/// that its surface lies at `level` along it (the smallest entry_level of the grains' nodes).
+inline void place_wall(Wall& w, double level) {
+    double s = level;
+    for (std::size_t d = 0; d < 3; ++d)
+        s -= w.point[d] * w.normal[d];
+    for (std::size_t d = 0; d < 3; ++d) {
+        w.point[d] += s * w.normal[d];
+        w.centre[d] += s * w.normal[d];
+    }
+}
+
 /// S(X) of a condition's space function at reference position X; `box` = x and y range of the
 /// condition's nodes (the hat functions).
 inline double space_value(SpaceFn f, double p0, const double* X, const std::array<double, 4>& box) {

@@ -135,6 +135,12 @@ enum class WallShape : std::uint8_t {
     circle_outside = 2, ///< grains outside a circle/sphere (an obstacle)
 };
 
+/// Where a wall enters (at its start_time, or at t = 0).
+enum class WallEnter : std::uint8_t {
+    at_point = 0,     ///< through `point`, as given
+    above_grains = 1, ///< plane only: moved along its normal to `gap` beyond the grains it touches
+};
+
 struct Wall {
     std::string name;
     WallShape shape = WallShape::plane;
@@ -153,6 +159,11 @@ struct Wall {
     /// pack). Before it the wall touches nothing and stays at its t = 0 pose; from it on it moves
     /// by velocity T(t - start_time).
     double start_time = 0;
+    /// above_grains: at start_time (pack time if 0) the plane and its rotation centre move along
+    /// the normal so that the nearest node it touches lies `gap` beyond that node's contact reach
+    /// (R_c of the pair's node law, 0 for the surface law); `point` then holds where it entered.
+    WallEnter enter = WallEnter::at_point;
+    double gap = 0; ///< m, above_grains only
 };
 
 /// Space function S(X) of a boundary condition, of the reference position.
@@ -210,6 +221,10 @@ struct SolverSettings {
     /// classical modulus on the actual quadrature (model/quadrature.hpp); off = continuum constants
     /// (PeriDEM parity, and files written before pd-file 1.3).
     bool quadrature_calibration = true;
+    /// A scene dt above the stability estimate runs with a warning (PeriDEM decks: the dt
+    /// PeriDEM runs them at; a blow-up still stops the run, exit 3); false: refused unless
+    /// pd-solve --force-dt.
+    bool dt_above_estimate_warns = false;
     /// Nodal fields written in frames besides position (only these are computed at frames).
     std::vector<std::string> fields{"velocity", "displacement", "force",       "damage",
                                     "damage_z", "fragment",     "broken_bonds"};

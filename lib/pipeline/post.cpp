@@ -166,7 +166,8 @@ struct Exporter {
     std::vector<std::string> made{}; // "<what> -> <path>" of the other products
 
     void vtu() {
-        const auto series = post::write_vtu_series(f, m.nodes, out_dir.string(), stem, progress);
+        const auto series = post::write_vtu_series(f, m.nodes, out_dir.string(), stem, progress,
+                                                   post::grain_outline(m));
         frames = series.frames;
         pvd = series.pvd;
         const auto walls = post::write_wall_series(f, m, out_dir.string(), stem);

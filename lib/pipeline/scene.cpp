@@ -77,6 +77,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     scene::place_particles(s);
     scene::parse_walls(s);
     scene::parse_contact(s);
+    scene::place_walls(s);
     scene::warn_close_to_walls(s);
     scene::mark_surface_layer(s);
     scene::parse_slots(s);

@@ -11,6 +11,7 @@
 #include "h5/file.hpp"
 #include "pipeline/full_disk.hpp"
 #include "pipeline/partition.hpp"
+#include "pipeline/restart_changes.hpp"
 #include "pipeline/run/schedule.hpp"
 #include "pipeline/run/signals.hpp"
 #include "pipeline/simulation.hpp"
@@ -85,9 +86,8 @@ std::unique_ptr<solver::Domain> ranks_domain(const h5::File& rf, const model::Mo
     return std::make_unique<solver::Domain>(comm, std::move(owner));
 }
 
-/// Phase 1, every rank: the model (and the checkpoint) read-only. Every rank works on the same
-/// data, so every rank raises the same errors. Under MPI every rank reads the model without the
-/// bond list, then its own rows of it (hyperslab reads) once its nodes are known.
+/// Phase 1, every rank: the model (and the checkpoint, with --set's changes) read-only; every
+/// rank raises the same errors. Under MPI without the bond list, then this rank's rows of it.
 Input open(const SolveOptions& opt, Context& ctx) {
     const bool par = ctx.size > 1;
     // Every check comes before the file is changed: a refused run leaves it byte for byte.
@@ -110,6 +110,7 @@ Input open(const SolveOptions& opt, Context& ctx) {
             throw InputError(fmt::format("{}: /checkpoints: no checkpoint to restart from "
                                          "(run pd-solve without --restart first)",
                                          opt.file));
+        ctx.run.overrides = apply_restart_changes(in.m, opt.sets, in.ck->u, in.ck->time, opt.file);
     }
     if (par) {
         in.dom = ranks_domain(rf, in.m, opt, ctx);
@@ -148,9 +149,9 @@ double time_step(const SolveOptions& opt, Context& ctx, const Input& in,
             "{}: /solver/dt = {:.4g} s exceeds the stability estimate {:.4g} s (governed by {}; "
             "bonds {:.4g} s, contact {:.4g} s)",
             opt.file, dt, est.limit, est.governing, est.pd, est.contact);
-        if (!opt.force_dt)
+        if (!opt.force_dt && !m.solver.dt_above_estimate_warns)
             throw InputError(msg + "; lower dt, use \"auto\", or pass --force-dt");
-        ctx.log.warn("{} (forced)", msg);
+        ctx.log.warn("{} ({})", msg, opt.force_dt ? "forced" : "solver.dt_above_estimate: warn");
     }
     if (!std::isfinite(dt) || !(dt > 0))
         throw InputError(
@@ -215,14 +216,12 @@ void prepare_file(const SolveOptions& opt, Context& ctx, const Input& in, const 
     // or fail, and no other tool can slip in between the run and its record.
     auto held =
         std::make_shared<FileLock>(ctx.rank == 0 ? FileLock::acquire(opt.file) : FileLock());
-    // 16 MB set aside beside the file (rank 0): freed when a write fails on a full disk, so the
-    // file still closes consistently with its last checkpoint (issue 13).
+    // 16 MB beside the file (rank 0), freed when a write fails on a full disk (issue 13).
     if (ctx.rank == 0)
         reserve = SpaceReserve::create(opt.file, std::uint64_t{16} << 20);
-    // Provenance: by rank 0 alone, once the run's (parallel) file is closed. Set only now, as the
-    // run starts changing the file: a run refused before (a check, too little disk space) leaves
-    // the file as it was, byte for byte.
-    // A file renamed, removed or replaced during the run gets no record (was: exit 4).
+    // Provenance: rank 0, once the parallel file is closed. Set only now, as the run starts
+    // changing the file: a run refused before leaves the file as it was, byte for byte. A file
+    // renamed, removed or replaced during the run gets no record (was: exit 4).
     const auto id = ctx.rank == 0 ? file_identity(opt.file) : std::array<std::uint64_t, 2>{};
     ctx.on_exit = [&ctx, file = opt.file, held, id](int code) {
         if (ctx.rank != 0)
@@ -241,6 +240,8 @@ void prepare_file(const SolveOptions& opt, Context& ctx, const Input& in, const 
         h5::File wf(opt.file, h5::Mode::read_write);
         if (in.ck) {
             store::truncate_after(wf, in.ck->step);
+            if (!opt.sets.empty()) // the changed walls and loading (restart_changes.hpp)
+                store::write_walls_and_loading(wf, in.m);
         } else {
             // Fresh output: previous frames, observables and checkpoints are replaced.
             wf.remove(store::path::particles);
@@ -272,8 +273,7 @@ void restore(Context& ctx, Input& in, solver::Solver& s) {
     if (ctx.rank != 0)
         std::fill(sum.begin(), sum.end(), 0.0);
     s.set_interval(std::move(sum), ck.interval_steps);
-    ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s; read in {:.3g} "
-                 "s)",
+    ctx.log.info("restarted from the checkpoint at step {} (t = {:.6g} s; read in {:.3g} s)",
                  ck.step, ck.time, in.ck_read_seconds);
     in.ck.reset();
 }

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace pd::pipeline {
 
@@ -31,6 +32,8 @@ struct SolveOptions {
     double energy_tolerance = 0.05;
     /// Stop (exit 3) when a node is more than R_c + h/2 inside another grain.
     bool penetration_check = true;
+    /// --restart --set KEY=VALUE: changes of the walls and loading (restart_changes.hpp).
+    std::vector<std::string> sets;
     CommonOptions common;
 };
 

@@ -22,6 +22,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
@@ -59,7 +60,7 @@ void write_vtu(vtkXMLUnstructuredGridWriter& writer, const std::string& path) {
     }
 }
 
-/// One VTK_VERTEX cell per point: meshio rejects a .vtu without cells (environment notes B.5).
+/// One VTK_VERTEX cell per point.
 void set_vertex_cells(vtkUnstructuredGrid* grid, vtkIdType n) {
     vtkNew<vtkIdTypeArray> offsets;
     vtkNew<vtkIdTypeArray> connectivity;
@@ -73,6 +74,29 @@ void set_vertex_cells(vtkUnstructuredGrid* grid, vtkIdType n) {
     vtkNew<vtkCellArray> cells;
     cells->SetData(offsets, connectivity);
     grid->SetCells(VTK_VERTEX, cells);
+}
+
+/// One VTK_VERTEX cell per point (meshio rejects a .vtu without cells, environment notes B.5),
+/// then the grains' boundary facets: VTK_LINE (2D) or VTK_TRIANGLE (3D) cells.
+void set_cells(vtkUnstructuredGrid* grid, vtkIdType n, const GrainOutline& outline) {
+    if (outline.cells.empty())
+        return set_vertex_cells(grid, n);
+    vtkNew<vtkCellArray> cells;
+    vtkNew<vtkUnsignedCharArray> types;
+    for (vtkIdType i = 0; i < n; ++i) {
+        cells->InsertNextCell(1, &i);
+        types->InsertNextValue(VTK_VERTEX);
+    }
+    const int ppc = outline.points_per_cell;
+    for (std::size_t c = 0; c < outline.num_cells(); ++c) {
+        vtkIdType ids[3];
+        for (int q = 0; q < ppc; ++q)
+            ids[q] = static_cast<vtkIdType>(
+                outline.cells[c * static_cast<std::size_t>(ppc) + static_cast<std::size_t>(q)]);
+        cells->InsertNextCell(ppc, ids);
+        types->InsertNextValue(ppc == 2 ? VTK_LINE : VTK_TRIANGLE);
+    }
+    grid->SetCells(types, cells);
 }
 
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& items) {
@@ -103,7 +127,8 @@ void remove_stale_tail(const std::string& out_dir, const std::string& stem, std:
 } // namespace
 
 VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const std::string& out_dir,
-                           const std::string& stem, const Progress& progress) {
+                           const std::string& stem, const Progress& progress,
+                           const GrainOutline& outline) {
     store::FrameReader frames(f);
     const std::string particles = store::path::particles;
     const auto n = frames.num_nodes();
@@ -120,7 +145,7 @@ VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const s
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(static_cast<vtkIdType>(n));
     grid->SetPoints(points);
-    set_vertex_cells(grid, static_cast<vtkIdType>(n));
+    set_cells(grid, static_cast<vtkIdType>(n), outline);
 
     vtkNew<vtkIntArray> body;
     body->SetName("body");

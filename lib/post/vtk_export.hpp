@@ -7,6 +7,7 @@
 #pragma once
 
 #include "model/model.hpp"
+#include "post/outline.hpp"
 #include "post/progress.hpp"
 
 #include <cstddef>
@@ -28,9 +29,11 @@ struct VtuSeries {
 /// and removes `<stem>_<k:06>.vtu` files numbered after the last frame (an older, longer export).
 /// `nodes` supplies body and volume (from store::read_model). `out_dir` must exist. Throws
 /// SchemaError if the frames lack /particles/nodes/position or disagree with `nodes`, InputError
-/// if a file cannot be written.
+/// if a file cannot be written. `outline` (grain_outline): the grains' boundary facets, written
+/// as line (2D) or triangle (3D) cells after the vertex cells.
 VtuSeries write_vtu_series(const h5::File& f, const model::Nodes& nodes, const std::string& out_dir,
-                           const std::string& stem, const Progress& progress = {});
+                           const std::string& stem, const Progress& progress = {},
+                           const GrainOutline& outline = {});
 
 /// Writes the rigid walls of `m` (model::Model::walls) at every frame's time:
 /// `<out_dir>/<stem>_walls_<frame:06>.vtu` (segments in 2D, quadrilaterals in 3D; cell data

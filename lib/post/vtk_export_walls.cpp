@@ -47,7 +47,7 @@ struct Pose {
 Pose pose(const model::Wall& w, double t) {
     Pose p;
     double rate = 0;
-    const double T = model::time_function(w.motion, w.motion_params, t, &rate);
+    const double T = model::wall_time(w, t, &rate); // at rest before its start_time
     for (int d = 0; d < 3; ++d) {
         p.theta[d] = w.angular_velocity[d] * T;
         p.centre[d] = w.centre[d] + w.velocity[d] * T;
@@ -98,10 +98,33 @@ WallExtent wall_extent(const model::Nodes& nodes) {
 
 namespace {
 
-/// A square patch (3D) or segment (2D) of half-size extent.half on the plane of wall `wall`,
-/// centred on the extent's centre projected onto the plane.
+/// The part of convex polygon `poly` on the free side of plane pose `q` (Sutherland-Hodgman).
+std::vector<V3> clip(const std::vector<V3>& poly, const Pose& q) {
+    auto side = [&](const V3& x) {
+        return (x[0] - q.point[0]) * q.normal[0] + (x[1] - q.point[1]) * q.normal[1] +
+               (x[2] - q.point[2]) * q.normal[2];
+    };
+    std::vector<V3> out;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const V3& a = poly[i];
+        const V3& b = poly[(i + 1) % poly.size()];
+        const double da = side(a), db = side(b);
+        if (da >= 0)
+            out.push_back(a);
+        if ((da >= 0) != (db >= 0)) {
+            const double f = da / (da - db);
+            out.push_back(
+                {a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])});
+        }
+    }
+    return out;
+}
+
+/// A segment (2D) of half-size extent.half on the plane of wall `wall`, or in 3D a square patch
+/// of that half side clipped to the free side of the `others` planes (each clip that would leave
+/// nothing is skipped), both centred on the extent's centre projected onto the plane.
 void plane_outline(WallOutline& o, const Pose& p, int dimension, const WallExtent& extent,
-                   std::int32_t wall) {
+                   std::int32_t wall, const std::vector<Pose>& others) {
     const auto first = static_cast<std::int64_t>(o.num_points());
     const V3 n = unit(p.normal);
     const V3 rel{extent.centre[0] - p.point[0], extent.centre[1] - p.point[1],
@@ -126,12 +149,25 @@ void plane_outline(WallOutline& o, const Pose& p, int dimension, const WallExten
             m = d;
     a[m] = 1;
     const V3 e1 = unit(cross(n, a)), e2 = cross(n, e1);
+    std::vector<V3> poly;
     for (const auto& [u, v] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}})
-        add_point(o, p,
-                  {c[0] + s * (u * e1[0] + v * e2[0]), c[1] + s * (u * e1[1] + v * e2[1]),
-                   c[2] + s * (u * e1[2] + v * e2[2])});
-    o.cells.insert(o.cells.end(), {first, first + 1, first + 2, first + 3});
-    o.wall.push_back(wall);
+        poly.push_back({c[0] + s * (u * e1[0] + v * e2[0]), c[1] + s * (u * e1[1] + v * e2[1]),
+                        c[2] + s * (u * e1[2] + v * e2[2])});
+    // Bounded by the other planes: a box of walls around the grains is drawn as a box.
+    for (const auto& q : others) {
+        auto cut = clip(poly, q);
+        if (cut.size() >= 3)
+            poly = std::move(cut);
+    }
+    for (const auto& x : poly)
+        add_point(o, p, x);
+    // A fan of quadrilaterals (the last one with a repeated corner when the count is odd).
+    const auto np = static_cast<std::int64_t>(poly.size());
+    for (std::int64_t i = 1; i + 1 < np; i += 2) {
+        o.cells.insert(o.cells.end(),
+                       {first, first + i, first + i + 1, first + std::min(i + 2, np - 1)});
+        o.wall.push_back(wall);
+    }
 }
 
 /// A circle of 128 segments about the current point, turned with the wall (2D).
@@ -183,8 +219,13 @@ WallOutline wall_outline(const std::vector<model::Wall>& walls, int dimension,
         const auto& w = walls[k];
         const Pose p = pose(w, t);
         const auto wall = static_cast<std::int32_t>(k);
+        std::vector<Pose> others; // the other planes present at t
+        for (std::size_t j = 0; j < walls.size() && dimension == 3; ++j)
+            if (j != k && walls[j].shape == model::WallShape::plane &&
+                model::wall_present(walls[j], t))
+                others.push_back(pose(walls[j], t));
         if (w.shape == model::WallShape::plane)
-            plane_outline(o, p, dimension, extent, wall);
+            plane_outline(o, p, dimension, extent, wall, others);
         else if (dimension != 3) // circles (2D) and spheres (3D) about the current point
             circle_outline(o, p, w.radius, wall);
         else

@@ -85,6 +85,9 @@ class Solver {
     const ContactList& contact() const { return *f_.contact; }
     const WallContact& walls() const { return *f_.walls; }
     std::size_t num_walls() const { return f_.walls->num_walls(); }
+    /// Wall k of the model (which the solver reads) moved: placed above the grains as it
+    /// enters. The wall contact search takes its new pose at the next step.
+    void wall_moved(std::size_t k) { f_.walls->set_wall(k, f_.m.walls[k]); }
     /// The meshed bodies whose contact reaction observe() reports (fixed, or driven whole by
     /// displacement conditions), ascending.
     const std::vector<std::int32_t>& reaction_bodies() const { return f_.reactions.bodies(); }

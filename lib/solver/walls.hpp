@@ -71,6 +71,11 @@ class WallContact {
     std::size_t num_walls() const { return walls_.size(); }
     /// The next update() rebuilds (after a change of ownership).
     void invalidate() { built_ = false; }
+    /// Wall k is now `w` (placed at its entry, changed at a restart); the next update() rebuilds.
+    void set_wall(std::size_t k, const model::Wall& w) {
+        walls_[k] = w;
+        built_ = false;
+    }
     std::int64_t rebuilds() const { return rebuilds_; }
     double max_radius() const { return rc_max_; }
 

@@ -142,7 +142,8 @@ void write_walls(h5::File& f, const model::Model& m) {
         const std::uint64_t nw = m.walls.size();
         std::vector<std::uint8_t> shape;
         std::vector<std::int32_t> group, motion;
-        std::vector<double> point, normal, radius, vel, omega, centre, mparams, start;
+        std::vector<double> point, normal, radius, vel, omega, centre, mparams, start, gap;
+        std::vector<std::uint8_t> enter;
         std::vector<std::string> names;
         for (const auto& x : m.walls) {
             names.push_back(x.name);
@@ -157,6 +158,8 @@ void write_walls(h5::File& f, const model::Model& m) {
             motion.push_back(static_cast<std::int32_t>(x.motion));
             mparams.insert(mparams.end(), x.motion_params.begin(), x.motion_params.end());
             start.push_back(x.start_time);
+            enter.push_back(static_cast<std::uint8_t>(x.enter));
+            gap.push_back(x.gap);
         }
         f.create_group(w);
         f.set_attr(w, "names", names);
@@ -173,6 +176,11 @@ void write_walls(h5::File& f, const model::Model& m) {
         // 1.3.0: written only when a wall enters later (older files stay as they were).
         if (std::any_of(start.begin(), start.end(), [](double t) { return t != 0; }))
             put(f, w + "/start_time", start, {nw}, "s");
+        // 1.6.0: written only when a wall enters above the grains.
+        if (std::any_of(enter.begin(), enter.end(), [](std::uint8_t e) { return e != 0; })) {
+            put(f, w + "/enter", enter, {nw}, "1");
+            put(f, w + "/gap", gap, {nw}, "m");
+        }
     }
 }
 
@@ -227,6 +235,8 @@ void write_solver(h5::File& f, const model::Model& m) {
     put_scalar(f, s + "/surface_correction", static_cast<std::int32_t>(S.surface_correction), "1");
     put_scalar(f, s + "/quadrature_calibration",
                static_cast<std::int32_t>(S.quadrature_calibration), "1");
+    if (S.dt_above_estimate_warns) // 1.6.0, written only when set
+        put_scalar(f, s + "/dt_above_estimate", std::int32_t{1}, "1");
     {
         std::string fl;
         for (const auto& x : S.fields)
@@ -252,6 +262,19 @@ void write_model(h5::File& f, const model::Model& m) {
     write_loading(f, m);
     write_solver(f, m);
     f.flush();
+}
+
+void write_walls_and_loading(h5::File& f, const model::Model& m) {
+    write_walls(f, m);
+    write_loading(f, m);
+    raise_version(f);
+    f.flush();
+}
+
+void write_wall_position(h5::File& f, std::size_t k, const model::Wall& w) {
+    const std::string p = path::walls;
+    f.write_rows<double>(p + "/point", w.point, k, 1);
+    f.write_rows<double>(p + "/centre", w.centre, k, 1);
 }
 
 std::vector<model::index_t> read_bond_rows(const h5::File& f, const model::Model& m,

@@ -18,6 +18,14 @@ namespace pd::store {
 /// Writes the root attributes, /h5md, /parameters and every static group of `m`.
 void write_model(h5::File& f, const model::Model& m);
 
+/// pd-solve --restart --set: rewrites /walls and /loading from `m` (serial file; raises
+/// /@schema_version to this build's).
+void write_walls_and_loading(h5::File& f, const model::Model& m);
+
+/// pd-solve, when wall k entered above the grains: its rows of /walls/point and /walls/centre
+/// (every rank calls it under MPI-IO; rank 0 writes).
+void write_wall_position(h5::File& f, std::size_t k, const model::Wall& w);
+
 /// Reads and validates the static part. Each dataset is checked for presence, shape and range;
 /// a violation throws SchemaError naming the file and dataset path.
 /// With `neighbors` false, /bonds/neighbor is left unread (m.bonds.complete() is false).

@@ -326,6 +326,19 @@ void read_walls(const h5::File& f, model::Model& m) {
                     throw SchemaError(f.name(), w + "/start_time",
                                       fmt::format("wall {}: {} is not a time >= 0", k, start[k]));
         }
+        std::vector<std::uint8_t> enter(nw, 0);
+        std::vector<double> gap(nw, 0.0);
+        if (f.exists(w + "/enter")) { // 1.6.0
+            enter = get<std::uint8_t>(f, w + "/enter", {nw});
+            gap = get<double>(f, w + "/gap", {nw});
+            require_range<std::uint8_t>(f, w + "/enter", enter, 0, 2);
+            for (std::size_t k = 0; k < nw; ++k)
+                if (!(gap[k] >= 0) || !std::isfinite(gap[k]) || (enter[k] != 0 && shape[k] != 0))
+                    throw SchemaError(f.name(), w + (gap[k] >= 0 ? "/enter" : "/gap"),
+                                      fmt::format("wall {}: above_grains needs a plane and a gap "
+                                                  ">= 0 (gap {})",
+                                                  k, gap[k]));
+        }
         // The scene's names (optional for external writers; "wall_k" without them).
         std::vector<std::string> names;
         if (f.has_attr(w, "names")) {
@@ -337,6 +350,8 @@ void read_walls(const h5::File& f, model::Model& m) {
         for (std::size_t k = 0; k < nw; ++k) {
             m.walls.push_back(wall_at(f, w, k, shape, group, point, normal, radius, vel, omega,
                                       centre, motion, mparams, start));
+            m.walls.back().enter = static_cast<model::WallEnter>(enter[k]);
+            m.walls.back().gap = gap[k];
             if (!names.empty() && !names[k].empty())
                 m.walls.back().name = names[k];
         }
@@ -415,6 +430,8 @@ void read_solver(const h5::File& f, model::Model& m) {
     S.surface_correction = f.exists(s + "/surface_correction") &&
                            get_scalar<std::int32_t>(f, s + "/surface_correction") != 0;
     // Absent (files before 1.3.0) = off: such a file solves as it did when it was written.
+    S.dt_above_estimate_warns = f.exists(s + "/dt_above_estimate") &&
+                                get_scalar<std::int32_t>(f, s + "/dt_above_estimate") != 0;
     S.quadrature_calibration = f.exists(s + "/quadrature_calibration") &&
                                get_scalar<std::int32_t>(f, s + "/quadrature_calibration") != 0;
     if (f.has_attr(s, "fields")) {

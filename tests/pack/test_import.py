@@ -324,3 +324,58 @@ def test_kn_zero_and_wall_pairs_mean_no_contact(pd_pack, shared_dir, tmp_path):
     assert all(p["stiffness"] == "auto" or p["stiffness"] > 0
                for g, p in pairs.items() if max(g) < 8)
     f.close()
+
+
+def test_spatial_rotation_is_constant_as_peridem_computes_it(pd_pack, shared_dir, tmp_path):
+    """Issue 28: the drum deck attrition_mix_particles_small_set pairs a rotation Time_Function
+    with Spatial_Function 'rotation', which PeriDEM 0.2.1 evaluates as S = 1 (its displacements
+    evaluate sin_x/y and linear_x/y only): imported as constant with a note, not refused. A type
+    PeriDEM does evaluate but pdgrain cannot express (sin_y) is still refused."""
+    src = shared_dir / "data" / "peridem" / "compression_small_set"
+    for p in src.iterdir():
+        (tmp_path / p.name).write_bytes(p.read_bytes())
+    deck = tmp_path / "input_0.yaml"
+    base = deck.read_text()
+    old = "    Particle_List: [15]\n    Direction: [1,2]\n    Zero_Displacement: true\n"
+    assert old in base
+
+    def with_spatial(kind):
+        deck.write_text(base.replace(old, (
+            "    Particle_List: [15]\n    Direction: [1,2]\n    Time_Function:\n"
+            "      Type: rotation\n      Parameters: [-10.0, 1.0e-3, 2.0e-3, 0.0]\n"
+            f"    Spatial_Function:\n      Type: {kind}\n      Parameters: [0.0, 1.0e-3, 2.0e-3]\n")))
+        scene = tmp_path / f"{kind}.json"
+        return run(pd_pack, "--from-peridem", deck, "-o", tmp_path / f"{kind}.h5",
+                   "--write-scene", scene), scene
+
+    r, scene = with_spatial("rotation")
+    assert r.returncode == 0, r.stderr
+    assert "Spatial_Function.Type 'rotation': constant, as PeriDEM computes it" in r.stdout
+    c = [c for c in json.loads(scene.read_text())["loading"]["conditions"]
+         if c.get("time_function") == "rotation"]
+    assert len(c) == 1 and c[0].get("space_function", "constant") == "constant"
+    assert c[0]["value"] == pytest.approx(-10.0)
+    r, _ = with_spatial("sin_y")
+    assert r.returncode == 2 and "'sin_y' cannot be expressed" in r.stderr, r.stderr
+
+
+def test_deck_dt_above_the_estimate_runs_with_a_warning(pd_pack, shared_dir, tmp_path):
+    """Issue 28: PeriDEM runs its decks at their dt; compression_small_set's 2.5e-6 s (or what the
+    shipped deck gives) exceeds pdgrain's estimate. Imported decks write
+    solver.dt_above_estimate "warn" (/solver/dt_above_estimate = 1): pd-solve warns with the
+    estimate and runs; the same file without it is refused (exit 2) as a native scene is."""
+    deck = shared_dir / "data" / "peridem" / "compression_small_set" / "input_0.yaml"
+    h5, scene = tmp_path / "c.h5", tmp_path / "c.json"
+    r = run(pd_pack, "--from-peridem", deck, "-o", h5, "--write-scene", scene, "-q")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(scene.read_text())["solver"]["dt_above_estimate"] == "warn"
+    with h5py.File(h5, "r") as f:
+        assert f["solver/dt_above_estimate"][()] == 1
+    r = run(pd_pack.parent / "pd-solve", h5, "--steps", 20)
+    assert r.returncode == 0, r.stderr
+    assert "exceeds the stability estimate" in r.stderr, r.stderr
+    assert "(solver.dt_above_estimate: warn)" in r.stderr, r.stderr
+    with h5py.File(h5, "r+") as f:
+        del f["solver/dt_above_estimate"]
+    r = run(pd_pack.parent / "pd-solve", h5, "--overwrite", "--steps", 20)
+    assert r.returncode == 2 and "--force-dt" in r.stderr, r.stderr

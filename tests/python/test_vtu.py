@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: MIT
 """(b) pd-post's ParaView output: every frame's .vtu, read back with meshio, holds one vertex per
-node at the frame's positions and the frame's fields bit for bit; the .pvd lists every frame with
-the times of /particles/nodes/position/time."""
+node at the frame's positions and the frame's fields bit for bit, then each grain's outline (issue
+28: the boundary edges of its reference mesh, 2D lines, so ParaView shows the grains' shapes);
+the .pvd lists every frame with the times of /particles/nodes/position/time."""
+import collections
 
 import pathlib
 import xml.etree.ElementTree as ET
@@ -28,6 +30,24 @@ def frames(h5file):
 
 
 @pytest.fixture(scope="module")
+def outline(h5file):
+    """The boundary facets of every body's reference mesh (2D: edges of one cell), global ids."""
+    with h5py.File(h5file, "r") as f:
+        assert int(f.attrs.get("dimension", 2)) == 2
+        off, ref = f["bodies/node_offsets"][()], f["bodies/ref_mesh"][()]
+        cells = {int(k.split("_")[1]): f["reference_meshes"][k]["cells"][()]
+                 for k in f["reference_meshes"]}
+    edges = set()
+    for b in range(len(off) - 1):
+        count = collections.Counter()
+        for c in cells[int(ref[b])]:
+            for k in range(len(c)):
+                count[tuple(sorted((off[b] + c[k], off[b] + c[(k + 1) % len(c)])))] += 1
+        edges |= {e for e, n in count.items() if n == 1}
+    return edges
+
+
+@pytest.fixture(scope="module")
 def pvd(post_dir, h5file):
     path = post_dir / (h5file.stem + ".pvd")
     assert path.is_file(), "%s missing" % path
@@ -44,14 +64,17 @@ def test_pvd_lists_every_frame(pvd, frames):
         assert path.is_file(), path
 
 
-def test_vtu_matches_frames(pvd, frames):
+def test_vtu_matches_frames(pvd, frames, outline):
     fields = frames["fields"]
     assert {"position", "velocity", "damage"} <= set(fields)
+    assert len(outline) > 0
     for k, (_, path) in enumerate(pvd):
         m = meshio.read(path)
         assert m.points.shape == (frames["n"], 3)
-        assert len(m.cells) == 1 and m.cells[0].type == "vertex"
+        assert [c.type for c in m.cells] == ["vertex", "line"]
         assert len(m.cells[0].data) == frames["n"]
+        lines = {tuple(sorted(e)) for e in m.cells[1].data.tolist()}
+        assert len(lines) == len(m.cells[1].data) and lines == outline
         np.testing.assert_array_equal(m.points, fields["position"][k])
         for name, values in fields.items():
             got = np.asarray(m.point_data[name]).reshape(values[k].shape)
@@ -66,8 +89,9 @@ def test_no_stale_vtu(pvd, post_dir, h5file):
     assert on_disk == listed
 
 
-def test_vtk_reader_reads_vtu(pvd, frames):
-    """VTK's own XML reader (what ParaView uses) reads the last frame: VTK_VERTEX cells, fields."""
+def test_vtk_reader_reads_vtu(pvd, frames, outline):
+    """VTK's own XML reader (what ParaView uses) reads the last frame: VTK_VERTEX cells, then the
+    outline's VTK_LINE cells, fields."""
     vtk = pytest.importorskip("vtk")
     from vtk.util.numpy_support import vtk_to_numpy
 
@@ -76,8 +100,10 @@ def test_vtk_reader_reads_vtu(pvd, frames):
     r.SetFileName(str(pvd[k][1]))
     r.Update()
     g = r.GetOutput()
-    assert g.GetNumberOfPoints() == frames["n"] and g.GetNumberOfCells() == frames["n"]
-    assert {g.GetCellType(i) for i in range(g.GetNumberOfCells())} == {vtk.VTK_VERTEX}
+    assert g.GetNumberOfPoints() == frames["n"]
+    assert g.GetNumberOfCells() == frames["n"] + len(outline)
+    types = [g.GetCellType(i) for i in range(g.GetNumberOfCells())]
+    assert set(types[:frames["n"]]) == {vtk.VTK_VERTEX} and set(types[frames["n"]:]) == {vtk.VTK_LINE}
     np.testing.assert_array_equal(vtk_to_numpy(g.GetPoints().GetData()),
                                   frames["fields"]["position"][k])
     np.testing.assert_array_equal(vtk_to_numpy(g.GetPointData().GetArray("damage")),

@@ -20,6 +20,13 @@ int main(int argc, char** argv) {
     app.add_flag("--overwrite", opt.overwrite,
                  "start afresh on a file that already holds frames or checkpoints (deletes them)")
         ->excludes(restart);
+    app.add_option("--set", opt.sets,
+                   "with --restart: change a wall or the loading of the checkpointed run, "
+                   "KEY=VALUE (walls.<name>.point|center|normal|radius|velocity|angular_velocity|"
+                   "rotation_center|start_time|enter|gap, loading.gravity, "
+                   "loading.viscous_damping; VALUE as JSON); repeatable; recorded in /provenance")
+        ->allow_extra_args(false)
+        ->needs(restart);
     app.add_option("--compress", opt.compress, "gzip level 1-9 of the frames (0: none)")
         ->check(CLI::Range(0, 9));
     app.add_flag("--rebalance", opt.rebalance,

@@ -53,13 +53,16 @@ def draw(path, out, dpi=150, mesh_lines=True):
     pad = 0.05 * max(hi - lo) if len(x) else 1.0
     lo, hi = lo - pad, hi + pad
     start = walls.get("start_time", np.zeros(len(walls.get("shape", []))))
+    enter = walls.get("enter", np.zeros(len(walls.get("shape", []))))
     for k in range(len(walls.get("shape", []))):
         p = walls["point"][k][:2]
         # A wall that enters later (start_time > 0) is not there at t = 0: dashed, labelled.
         later = start[k] > 0
         style = dict(linestyles="dashed" if later else "solid")
+        # enter = 1 (above_grains): drawn at the scene's point, placed by pd-solve at its entry.
+        where = " above the grains" if enter[k] == 1 else ""
         if later:
-            ax.annotate(f"enters at t = {start[k]:.4g} s", p, fontsize=7, color="tab:red")
+            ax.annotate(f"enters{where} at t = {start[k]:.4g} s", p, fontsize=7, color="tab:red")
         if walls["shape"][k] == 0:
             n = walls["normal"][k][:2]
             t = np.array([-n[1], n[0]])

@@ -115,18 +115,7 @@ struct LoadingReader {
         const bool zero =
             !force && (flag_or(s, w, "Zero_Displacement", false) || (tt == "constant" && a == 0));
         time_function(w, force, tt, tp, a, c);
-        const YAML::Node sf = child(s, "Spatial_Function");
-        const auto st = str_or(sf, w + ".Spatial_Function", "Type", "constant");
-        const auto sp = nums(sf, w + ".Spatial_Function", "Parameters");
-        double amplitude = a;
-        if (st == "linear_x" || st == "sin_x") {
-            c["space_function"] = st == "linear_x" ? "linear_x" : "sine_x";
-            c["space_parameter"] = sp.empty() ? 1.0 : sp[0];
-            if (force && st == "sin_x")
-                amplitude = a * (sp.empty() ? 1.0 : sp[0]); // p_s0 sin(pi p_s0 x)
-        } else if (st != "constant")
-            throw ConfigError(w + ".Spatial_Function.Type",
-                              "'" + st + "' cannot be expressed (constant, linear_x, sin_x)");
+        const double amplitude = spatial_function(s, w, force, a, c);
         c["value"] = zero ? 0.0 : amplitude;
         // Whole particles held at zero in every dof: a fixed obstacle.
         if (zero && whole && static_cast<int>(dofs.size()) == dim) {
@@ -153,6 +142,35 @@ struct LoadingReader {
                     conditions.push_back(h);
                 }
         conditions.push_back(c);
+    }
+
+    /// The Spatial_Function of a set into `c`; returns the amplitude (PeriDEM's forces scale
+    /// by the space parameter).
+    double spatial_function(const YAML::Node& s, const std::string& w, bool force, double a,
+                            json& c) const {
+        const YAML::Node sf = child(s, "Spatial_Function");
+        const auto st = str_or(sf, w + ".Spatial_Function", "Type", "constant");
+        const auto sp = nums(sf, w + ".Spatial_Function", "Parameters");
+        double amplitude = a;
+        if (st == "linear_x" || st == "linear_y" || st == "sin_x") {
+            c["space_function"] = st == "sin_x" ? "sine_x" : st;
+            c["space_parameter"] = sp.empty() ? 1.0 : sp[0];
+            if (force) // PeriDEM's forces: p_s0 sin(pi p_s0 x), p_s0 p_s0 x
+                amplitude = a * (sp.empty() ? 1.0 : sp[0]);
+        } else if (st == "sin_y" || (force && (st == "hat_x" || st == "hat_y"))) {
+            throw ConfigError(w + ".Spatial_Function.Type",
+                              "'" + st +
+                                  "' cannot be expressed (constant, linear_x, linear_y, "
+                                  "sin_x)");
+        } else if (st != "constant") {
+            // PeriDEM 0.2.1 computes every other type (the drum decks' 'rotation') as S = 1:
+            // displacements evaluate sin_x/y and linear_x/y, forces also hat_x/y.
+            im.log.info("{}.Spatial_Function.Type '{}': constant, as PeriDEM computes it (its "
+                        "{} evaluate {} only)",
+                        w, st, force ? "forces" : "displacements",
+                        force ? "hat_x/y, sin_x/y, linear_x/y" : "sin_x/y, linear_x/y");
+        }
+        return amplitude;
     }
 
     /// The Time_Function of a set.

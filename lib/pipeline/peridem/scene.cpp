@@ -17,7 +17,9 @@ void read_output(Import& im) {
                 {"integrator",
                  time_scheme == "central_difference" ? "symplectic_euler" : "velocity_verlet"},
                 {"surface_correction", false},
-                {"quadrature_calibration", false}};
+                {"quadrature_calibration", false},
+                // PeriDEM runs its deck's dt whatever the estimate says: a warning, not a refusal
+                {"dt_above_estimate", "warn"}};
     if (auto out = R["Output"]) {
         const double every = num_or(out, "Output", "Output_Interval", 0);
         if (every > 0)

@@ -44,7 +44,7 @@ struct Steps {
 struct Run {
     const SolveOptions& opt;
     Context& ctx;
-    const model::Model& m;
+    model::Model& m; ///< the solver reads it; only a wall's entry above the grains changes it
     solver::Solver& s;
     std::unique_ptr<solver::Domain>& dom; ///< replaced by a rebalance
     h5::File& file;

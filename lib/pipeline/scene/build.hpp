@@ -99,6 +99,9 @@ void parse_walls(SceneBuild& s);
 void parse_contact(SceneBuild& s);
 /// Warns of grains within a wall's contact radius at t = 0 (walls.cpp).
 void warn_close_to_walls(SceneBuild& s);
+/// Walls present at t = 0 that enter above the grains: placed on the packed grains (after
+/// parse_contact: the reach is the wall's contact radius with each grain's group).
+void place_walls(SceneBuild& s);
 /// Marks the surface-layer nodes (placement.cpp).
 void mark_surface_layer(SceneBuild& s);
 /// "slots": notch slots (cracks.cpp).

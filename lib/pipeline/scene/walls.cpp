@@ -16,7 +16,7 @@ model::Wall parse_wall(const json& wj, std::size_t k, const model::Model& m) {
     check_keys(wj, w,
                {"name", "type", "point", "normal", "center", "radius", "velocity",
                 "angular_velocity", "rotation_center", "group", "time_function", "time_parameters",
-                "start_time"});
+                "start_time", "enter", "gap"});
     model::Wall wall;
     wall.name = text(wj, w, "name", fmt::format("wall_{}", k));
     const auto type = text(wj, w, "type", "plane", {"plane", "circle_inside", "circle_outside"});
@@ -62,11 +62,40 @@ model::Wall parse_wall(const json& wj, std::size_t k, const model::Model& m) {
     wall.start_time = number(wj, w, "start_time", 0.0);
     if (!(wall.start_time >= 0) || !std::isfinite(wall.start_time))
         throw ConfigError(w + ".start_time", "must be a finite time >= 0 (s)");
+    // Walls placed by the state: enter above the grains, wherever they are at start_time.
+    wall.enter = text(wj, w, "enter", "at_point", {"at_point", "above_grains"}) == "above_grains"
+                     ? model::WallEnter::above_grains
+                     : model::WallEnter::at_point;
+    wall.gap = number(wj, w, "gap", 0.0);
+    if (!(wall.gap >= 0) || !std::isfinite(wall.gap))
+        throw ConfigError(w + ".gap", "must be a finite distance >= 0 (m)");
+    if (wall.enter == model::WallEnter::above_grains && wall.shape != model::WallShape::plane)
+        throw ConfigError(w + ".enter", "\"above_grains\" places plane walls only");
     wall.group = static_cast<std::int32_t>(std::clamp(number(wj, w, "group", -1), -1e9, 1e9));
     return wall;
 }
 
 } // namespace
+
+void place_walls(SceneBuild& s) {
+    model::Model& m = s.m;
+    for (std::size_t k = 0; k < m.walls.size(); ++k) {
+        auto& wall = m.walls[k];
+        if (wall.enter != model::WallEnter::above_grains || wall.start_time > 0)
+            continue;
+        double level = HUGE_VAL;
+        for (std::size_t i = 0; i < m.nodes.num(); ++i)
+            level = std::min(
+                level, model::entry_level(m, wall,
+                                          m.bodies.group[static_cast<std::size_t>(m.nodes.body[i])],
+                                          &m.nodes.x0[3 * i]));
+        if (!std::isfinite(level))
+            throw ConfigError(fmt::format("walls[{}].enter", k),
+                              "\"above_grains\": the wall touches no grain (no contact law "
+                              "between them)");
+        model::place_wall(wall, level);
+    }
+}
 
 void parse_walls(SceneBuild& s) {
     const json& root = s.root;
@@ -90,8 +119,8 @@ void parse_walls(SceneBuild& s) {
         // start_time enters later, where pd-solve's rigid-wall guard checks the grains).
         for (std::size_t k = 0; k < m.walls.size(); ++k) {
             const auto& wall = m.walls[k];
-            if (wall.start_time > 0)
-                continue;
+            if (wall.start_time > 0 || wall.enter == model::WallEnter::above_grains)
+                continue; // enters later, or placed by place_walls
             for (std::size_t i = 0; i < m.nodes.num(); ++i) {
                 const double d = model::wall_distance(wall, &m.nodes.x0[3 * i]);
                 if (d < 0)

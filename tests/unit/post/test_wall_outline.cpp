@@ -121,4 +121,46 @@ TEST(WallOutline, PlanePatchIsCentredOnTheNodes) {
     EXPECT_DOUBLE_EQ(o.points[4], -0.001);
 }
 
+TEST(WallOutline, BoxOfPlanesIsDrawnAsABox) {
+    // Issue 28: six planes around the grains in 3D drew six crossing squares 1.2 x the nodes'
+    // diagonal; each is now clipped by the others to the box face it bounds.
+    pd::model::Nodes nodes;
+    nodes.x0 = {0, 0, 0, 0.004, 0.003, 0.002};
+    nodes.volume = {1, 1};
+    const auto e = pd::post::wall_extent(nodes);
+    const double lo[3] = {-0.001, -0.001, -0.001}, hi[3] = {0.005, 0.004, 0.003};
+    std::vector<Wall> box;
+    for (int d = 0; d < 3; ++d)
+        for (int sgn : {1, -1}) {
+            Wall w;
+            w.point = {0, 0, 0};
+            w.point[static_cast<std::size_t>(d)] = sgn > 0 ? lo[d] : hi[d];
+            w.normal = {0, 0, 0};
+            w.normal[static_cast<std::size_t>(d)] = sgn;
+            w.centre = w.point;
+            box.push_back(w);
+        }
+    const auto o = pd::post::wall_outline(box, 3, e, 0);
+    ASSERT_EQ(o.num_cells(), 6u); // one quadrilateral per face
+    for (std::size_t i = 0; i < o.num_points(); ++i)
+        for (int d = 0; d < 3; ++d) {
+            const double x = o.points[3 * i + static_cast<std::size_t>(d)];
+            EXPECT_TRUE(std::abs(x - lo[d]) < 1e-15 || std::abs(x - hi[d]) < 1e-15)
+                << "point " << i << " axis " << d << ": " << x;
+        }
+}
+
+TEST(WallOutline, WallAtRestBeforeItsStartTime) {
+    Wall plate;
+    plate.point = {0, 0.01, 0};
+    plate.normal = {0, -1, 0};
+    plate.velocity = {0, -1, 0};
+    plate.centre = plate.point;
+    plate.start_time = 0.5;
+    pd::post::WallExtent e;
+    e.half = 0.01;
+    EXPECT_DOUBLE_EQ(pd::post::wall_outline({plate}, 2, e, 0.4).points[1], 0.01);
+    EXPECT_DOUBLE_EQ(pd::post::wall_outline({plate}, 2, e, 0.75).points[1], 0.01 - 0.25);
+}
+
 } // namespace

@@ -5,11 +5,15 @@
 // which the wall enters (after the step before it, or at set-up when the run's first step is
 // that step), on every rank alike (reduced), and refused as a scene error (exit 2) naming the
 // wall, with the frames before in the file. pd-pack checks the walls present at t = 0.
+// A wall that enters above the grains ("enter": "above_grains") is first placed there, from
+// the state at that step: the scene needs no settled height.
 #include "core/errors.hpp"
 #include "model/functions.hpp"
 #include "pipeline/run/schedule.hpp"
 #include "store/frames.hpp"
+#include "store/model_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -26,10 +30,46 @@ std::vector<std::size_t> entering(const model::Model& m, double t, double dt) {
     return w;
 }
 
-/// Throws when a node of this run lies behind a wall that enters at the next step (collective).
+/// A wall that enters above the grains: placed where the grains are now (collective), its
+/// position written to the file and handed to the solver.
+void place(Run& r, std::size_t k) {
+    const auto& st = r.s.state();
+    auto& wall = r.m.walls[k];
+    double level = HUGE_VAL;
+    for (auto row : st.rows) {
+        const auto i = static_cast<std::size_t>(row);
+        const auto g = r.m.bodies.group[static_cast<std::size_t>(st.body[i])];
+        level = std::min(level, model::entry_level(r.m, wall, g, &st.x[3 * i]));
+    }
+    if (r.par)
+        MPI_Allreduce(MPI_IN_PLACE, &level, 1, MPI_DOUBLE, MPI_MIN, r.comm);
+    if (!std::isfinite(level)) {
+        r.agreed = true;
+        r.obs.flush();
+        throw InputError(fmt::format("{}: wall '{}' (walls[{}]) enters above the grains at t = "
+                                     "{:.6g} s but touches no grain (no contact law between them)",
+                                     r.opt.file, wall.name, k, wall.start_time));
+    }
+    const auto before = wall.point;
+    model::place_wall(wall, level);
+    r.s.wall_moved(k);
+    store::write_wall_position(r.file, k, wall);
+    const double moved = (wall.point[0] - before[0]) * wall.normal[0] +
+                         (wall.point[1] - before[1]) * wall.normal[1] +
+                         (wall.point[2] - before[2]) * wall.normal[2];
+    r.ctx.log.info("wall '{}' enters above the grains at t = {:.6g} s: point ({:.6g}, {:.6g}, "
+                   "{:.6g}) m, {:.4g} m along its normal from the scene's, gap {:.4g} m",
+                   wall.name, st.time + r.steps.dt, wall.point[0], wall.point[1], wall.point[2],
+                   moved, wall.gap);
+}
+
+/// Places the walls that enter above the grains at the next step, then throws when a node of
+/// this run lies behind a wall that enters then (collective).
 void check_entry(Run& r) {
     const auto& st = r.s.state();
     for (const auto k : entering(r.m, st.time, r.steps.dt)) {
+        if (r.m.walls[k].enter == model::WallEnter::above_grains)
+            place(r, k);
         const auto& wall = r.m.walls[k];
         struct {
             double d;
