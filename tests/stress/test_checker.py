@@ -153,6 +153,19 @@ def test_planted_overlap_fails_with_its_depth(tmp_path):
     assert c["no_interpenetration"].value == pytest.approx(0.4 * H - RC, rel=1e-6)
 
 
+def test_surface_law_has_no_contact_radius(tmp_path):
+    # /contact/law 1 (the surface law): its radius is the pair's mesh size, and its force acts
+    # from contact on, so a depth is measured from the boundary itself. Columns crossed by 0.6 h:
+    # within the node law's R_c + h/2, beyond the surface law's h/2.
+    f = make(tmp_path / "node.h5", gap_end=-0.6 * H)
+    c = by_name(check_run.check_file(f))["no_interpenetration"]
+    assert c.ok is True and c.value == pytest.approx(0.6 * H - RC, rel=1e-6), c.line()
+    with h5py.File(f, "a") as h:
+        replace(h, "contact/law", [1], None, np.uint8)
+    c = by_name(check_run.check_file(f))["no_interpenetration"]
+    assert c.ok is False and c.value == pytest.approx(0.6 * H, rel=1e-6), c.line()
+
+
 def test_crack_opens_a_body(tmp_path):
     # body 1's middle column is damaged (a crack along y) and one node of body 0 sits in it:
     # with the crack faces counted as boundary, the node is not inside body 1.

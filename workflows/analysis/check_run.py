@@ -13,7 +13,7 @@ The checks and their rules:
 no_interpenetration, no_wall_body_penetration
     Node i of body A is inside body B (B != A, the pair has a contact law in /contact with
     R_c > 0 and K_n > 0) by `e_i = max_j (d_j - |y_i - y_j|) - R_c(A, B)` beyond the contact
-    radius, the max over the nodes j of B within 2 h_max of y_i (current positions y). d_j is
+    radius (0 for the surface law, /contact/law 1: it acts from contact on), the max over the nodes j of B within 2 h_max of y_i (current positions y). d_j is
     the reference depth of node j in B: its distance, in reference positions, to the nearest
     boundary node of B. Boundary nodes are the vertices of the reference-mesh facets used by one
     cell only (edges in 2D, faces in 3D; for a mesh without cells, the nodes with fewer than 90 %
@@ -116,16 +116,24 @@ class Model:
         self.material = b["material"][()]
         self.init_velocity = b["initial_velocity"][()]
         c = f["contact"]
-        self.contact = [(int(a), int(bb), float(r), float(k)) for a, bb, r, k in zip(
-            c["group_a"][()], c["group_b"][()], c["radius"][()], c["stiffness"][()])]
+        # /contact/law (pd-file 1.5.0; absent: node law): the surface law's radius is its mesh
+        # size, and its force acts from contact on (offset 0), not from R_c.
+        law = c["law"][()] if "law" in c else np.zeros(len(c["radius"][()]), dtype=np.uint8)
+        self.contact = [(int(a), int(bb), float(r) if int(lw) == 0 else 0.0, float(k))
+                        for a, bb, r, k, lw in zip(c["group_a"][()], c["group_b"][()],
+                                                   c["radius"][()], c["stiffness"][()], law)]
+        self.interacts = [(int(a), int(bb)) for a, bb, r, k in zip(
+            c["group_a"][()], c["group_b"][()], c["radius"][()], c["stiffness"][()])
+            if r > 0 and k > 0]
         ng = int(max(self.group.max(initial=0), *(max(a, bb) for a, bb, _, _ in self.contact)
                      if self.contact else [0])) + 1
         if "walls" in f:
             ng = max(ng, int(f["walls/group"][()].max()) + 1)
-        self.rc = np.full((ng, ng), np.nan)  # R_c of a group pair, nan = no interaction
-        for a, bb, r, k in self.contact:
-            if r > 0 and k > 0:
-                self.rc[a, bb] = self.rc[bb, a] = r
+        # the contact offset of a group pair (node law R_c, surface law 0), nan = no interaction
+        self.rc = np.full((ng, ng), np.nan)
+        offset = {(a, bb): r for a, bb, r, _ in self.contact}
+        for a, bb in self.interacts:
+            self.rc[a, bb] = self.rc[bb, a] = offset[(a, bb)]
         self.mats = {}
         for name, g in f["materials"].items():
             self.mats[int(g.attrs["index"])] = {
@@ -330,7 +338,8 @@ def check_penetration(model, fr):
             continue
         ratio, e, half_h, det = worst[w]
         out.append(Check(name, bool(ratio <= 1.0), e, half_h,
-                         "max depth beyond R_c (m) vs h/2 of the body entered; " + det))
+                         "max depth beyond R_c (m; surface law: R_c = 0) vs h/2 of the body "
+                         "entered; " + det))
     return out
 
 
