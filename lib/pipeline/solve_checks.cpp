@@ -11,6 +11,10 @@
 namespace pd::pipeline {
 
 void check_options(const SolveOptions& opt) {
+    if (!opt.restart && !opt.sets.empty()) // the CLI's --set needs --restart; so does the library
+        throw InputError(fmt::format("{}: changes of walls or loading ({}) apply at a restart "
+                                     "only (restart = true)",
+                                     opt.file, opt.sets.front()));
     if (opt.max_steps_given && opt.max_steps < 1)
         throw InputError(fmt::format("--steps {}: must be at least 1", opt.max_steps));
     if (opt.final_time_given && !(std::isfinite(opt.final_time) && opt.final_time > 0))

@@ -116,6 +116,7 @@ class ContactList {
     void surface_rows(const State& s);
     std::int64_t add_surface(State& s, double& energy, std::vector<BodyPairForce>* normal) const;
     bool torn(std::int32_t facet, const State& s) const;
+    void facet_spheres(const State& s) const;
     struct Event;
     struct Best;
     struct Sums {
@@ -123,7 +124,7 @@ class ContactList {
         std::int32_t first_body = -1;
         double energy = 0;
     };
-    void surface_row(std::size_t i, const State& s, std::vector<Event>& out,
+    void surface_row(std::size_t a, const State& s, std::vector<Event>& out,
                      std::vector<Best>& best) const;
     void apply_events(State& s, Sums& sums, std::vector<BodyPairForce>* normal) const;
     template <class Keyed, class RowOf>
@@ -161,6 +162,8 @@ class ContactList {
     /// Rows the surface law computes: owned rows, and under MPI the rows of ghost candidates of
     /// owned rows (their events put reactions on owned facet nodes).
     std::vector<index_t> srows_;
+    std::vector<model::offset_t> sfac_off_{0}; ///< CSR srows_ -> the facets the row tests
+    std::vector<std::int32_t> sfac_;
     struct Event {
         index_t i;          ///< the node inside
         std::int32_t facet; ///< the facet it is pushed out of
@@ -170,6 +173,7 @@ class ContactList {
         bool deep;          ///< more than h / 2 inside (the guard's failure)
     };
     mutable std::vector<Event> events_;
+    mutable std::vector<double> sphere_; ///< per facet, this evaluation: centroid, reach
 };
 
 } // namespace pd::solver

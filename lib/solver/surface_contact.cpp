@@ -285,10 +285,32 @@ void ContactList::init_surface(const model::Model& m) {
 }
 
 void ContactList::surface_rows(const State& s) {
+    // Per row, the facets its surface-law candidates are vertices of, each once (sorted): the
+    // step then visits a row's facets straight, not candidate -> incident facets, and a facet
+    // that up to nv candidates of the row reach is evaluated once. The same facets as going
+    // through the candidates, so the same closest points and forces.
     srows_.clear();
-    for (std::size_t i = 0; i < s.n; ++i)
-        if (offsets_[i + 1] > offsets_[i]) // owned rows, and the ghost rows made for this law
-            srows_.push_back(static_cast<index_t>(i));
+    sfac_off_.assign(1, 0);
+    sfac_.clear();
+    std::vector<std::int32_t> row;
+    for (std::size_t i = 0; i < s.n; ++i) {
+        if (offsets_[i + 1] == offsets_[i]) // owned rows, and the ghost rows made for this law
+            continue;
+        row.clear();
+        for (auto k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+            if (laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])].law !=
+                model::ContactLaw::surface)
+                continue;
+            const auto j = static_cast<std::size_t>(neighbor_[static_cast<std::size_t>(k)]);
+            for (auto q = facets_.offsets[j]; q < facets_.offsets[j + 1]; ++q)
+                row.push_back(facets_.of_node[static_cast<std::size_t>(q)]);
+        }
+        std::sort(row.begin(), row.end());
+        row.erase(std::unique(row.begin(), row.end()), row.end());
+        srows_.push_back(static_cast<index_t>(i));
+        sfac_.insert(sfac_.end(), row.begin(), row.end());
+        sfac_off_.push_back(static_cast<model::offset_t>(sfac_.size()));
+    }
 }
 
 bool ContactList::torn(std::int32_t f, const State& s) const {
@@ -311,6 +333,43 @@ bool ContactList::torn(std::int32_t f, const State& s) const {
     return false;
 }
 
+/// Per facet, this evaluation: its vertices' centroid c and reach r + h (r the largest distance
+/// of a vertex from c, h its body's mesh size), or reach -1 if torn. The skip in surface_row is
+/// safe: the closest point p of a facet lies in its vertices' hull, within r of c, so a node
+/// farther than r + h from c is farther than h from the facet, where the potential is zero
+/// (the force acts for d < h only). Such a facet can be neither a body's closest facet with a
+/// force nor tie with one (a tie is equal distance; the one with a force is nearer than h).
+void ContactList::facet_spheres(const State& s) const {
+    const auto nv = static_cast<std::size_t>(facets_.nv);
+    const auto nf = static_cast<std::int64_t>(facets_.num());
+    sphere_.resize(4 * facets_.num());
+#pragma omp parallel for schedule(static) if (threaded(nf))
+    for (std::int64_t fi = 0; fi < nf; ++fi) {
+        const auto f = static_cast<std::size_t>(fi);
+        double* c = &sphere_[4 * f];
+        if (torn(static_cast<std::int32_t>(f), s)) {
+            c[0] = c[1] = c[2] = 0;
+            c[3] = -1;
+            continue;
+        }
+        const index_t* v = &facets_.v[nv * f];
+        for (std::size_t d = 0; d < 3; ++d) {
+            double sum = 0;
+            for (std::size_t a = 0; a < nv; ++a)
+                sum += s.x[3 * static_cast<std::size_t>(v[a]) + d];
+            c[d] = sum / static_cast<double>(nv);
+        }
+        double r2 = 0;
+        for (std::size_t a = 0; a < nv; ++a) {
+            const double* x = &s.x[3 * static_cast<std::size_t>(v[a])];
+            r2 = std::max(r2, (x[0] - c[0]) * (x[0] - c[0]) + (x[1] - c[1]) * (x[1] - c[1]) +
+                                  (x[2] - c[2]) * (x[2] - c[2]));
+        }
+        // (1 + 1e-12): the rounding of c and r, so that no facet within h is skipped.
+        c[3] = (std::sqrt(r2) + h_body_[static_cast<std::size_t>(facets_.body[f])]) * (1 + 1e-12);
+    }
+}
+
 /// The closest boundary point of each other body to node i, among the facets at i's candidates.
 struct ContactList::Best {
     std::int32_t body, facet;
@@ -320,43 +379,44 @@ struct ContactList::Best {
     const model::ContactPair* law;
 };
 
-void ContactList::surface_row(std::size_t i, const State& s, std::vector<Event>& out,
+void ContactList::surface_row(std::size_t a, const State& s, std::vector<Event>& out,
                               std::vector<Best>& best) const {
     const auto nv = static_cast<std::size_t>(facets_.nv);
+    const auto i = static_cast<std::size_t>(srows_[a]);
     const double* xi = &s.x[3 * i];
+    const auto gi = body_group_[static_cast<std::size_t>(s.body[i])];
     best.clear();
-    for (auto k = offsets_[i]; k < offsets_[i + 1]; ++k) {
-        const auto j = static_cast<std::size_t>(neighbor_[static_cast<std::size_t>(k)]);
-        const auto& law = laws_[static_cast<std::size_t>(law_[static_cast<std::size_t>(k)])];
-        if (law.law != model::ContactLaw::surface)
+    for (auto q = sfac_off_[a]; q < sfac_off_[a + 1]; ++q) {
+        const auto f = sfac_[static_cast<std::size_t>(q)];
+        const double* c = &sphere_[4 * static_cast<std::size_t>(f)];
+        const double r2 = (xi[0] - c[0]) * (xi[0] - c[0]) + (xi[1] - c[1]) * (xi[1] - c[1]) +
+                          (xi[2] - c[2]) * (xi[2] - c[2]);
+        if (c[3] < 0 || r2 > c[3] * c[3])
+            continue; // torn, or farther than its body's h: no force (facet_spheres)
+        const index_t* v = &facets_.v[nv * static_cast<std::size_t>(f)];
+        double p[3], w[3], n[3];
+        facet_point(nv, v, s.x.data(), xi, p, w, n);
+        const double o[3] = {xi[0] - p[0], xi[1] - p[1], xi[2] - p[2]};
+        const double d2 = o[0] * o[0] + o[1] * o[1] + o[2] * o[2];
+        const bool neg = o[0] * n[0] + o[1] * n[1] + o[2] * n[2] < 0;
+        const auto body = facets_.body[static_cast<std::size_t>(f)];
+        auto it =
+            std::find_if(best.begin(), best.end(), [&](const Best& b) { return b.body == body; });
+        if (it == best.end()) {
+            const auto& law = laws_[static_cast<std::size_t>(law_of_[static_cast<std::size_t>(
+                gi * ngroups_ + body_group_[static_cast<std::size_t>(body)])])];
+            best.push_back({body, f, d2, neg, {p[0], p[1], p[2]}, {w[0], w[1], w[2]}, &law});
             continue;
-        for (auto q = facets_.offsets[j]; q < facets_.offsets[j + 1]; ++q) {
-            const auto f = facets_.of_node[static_cast<std::size_t>(q)];
-            const index_t* v = &facets_.v[nv * static_cast<std::size_t>(f)];
-            if (torn(f, s))
-                continue;
-            double p[3], w[3], n[3];
-            facet_point(nv, v, s.x.data(), xi, p, w, n);
-            const double o[3] = {xi[0] - p[0], xi[1] - p[1], xi[2] - p[2]};
-            const double d2 = o[0] * o[0] + o[1] * o[1] + o[2] * o[2];
-            const bool neg = o[0] * n[0] + o[1] * n[1] + o[2] * n[2] < 0;
-            const auto body = s.body[j];
-            auto it = std::find_if(best.begin(), best.end(),
-                                   [&](const Best& b) { return b.body == body; });
-            if (it == best.end()) {
-                best.push_back({body, f, d2, neg, {p[0], p[1], p[2]}, {w[0], w[1], w[2]}, &law});
-                continue;
-            }
-            const double tol = 1e-10 * std::max(d2, it->d2);
-            if (d2 < it->d2 - tol) {
-                *it = {body, f, d2, neg, {p[0], p[1], p[2]}, {w[0], w[1], w[2]}, &law};
-            } else if (d2 <= it->d2 + tol) {
-                it->inside = it->inside && neg; // a shared vertex or edge: all must agree
-                if (f < it->facet) { // the smallest facet of a tie: the same on every rank
-                    it->facet = f;
-                    std::copy(p, p + 3, it->p);
-                    std::copy(w, w + 3, it->w);
-                }
+        }
+        const double tol = 1e-10 * std::max(d2, it->d2);
+        if (d2 < it->d2 - tol) {
+            *it = {body, f, d2, neg, {p[0], p[1], p[2]}, {w[0], w[1], w[2]}, it->law};
+        } else if (d2 <= it->d2 + tol) {
+            it->inside = it->inside && neg; // a shared vertex or edge: all must agree
+            if (f < it->facet) {            // the smallest facet of a tie: the same on every rank
+                it->facet = f;
+                std::copy(p, p + 3, it->p);
+                std::copy(w, w + 3, it->w);
             }
         }
     }
@@ -450,6 +510,7 @@ std::int64_t ContactList::add_surface(State& s, double& energy,
                                       std::vector<BodyPairForce>* normal) const {
     const auto nrows = static_cast<std::int64_t>(srows_.size());
     events_.clear();
+    facet_spheres(s);
     if (threaded(nrows)) {
 #pragma omp parallel
         {
@@ -457,8 +518,7 @@ std::int64_t ContactList::add_surface(State& s, double& energy,
             std::vector<Best> best;
 #pragma omp for schedule(static) nowait
             for (std::int64_t a = 0; a < nrows; ++a)
-                surface_row(static_cast<std::size_t>(srows_[static_cast<std::size_t>(a)]), s, mine,
-                            best);
+                surface_row(static_cast<std::size_t>(a), s, mine, best);
 #pragma omp critical(pd_surface_events)
             events_.insert(events_.end(), mine.begin(), mine.end());
         }
@@ -469,8 +529,7 @@ std::int64_t ContactList::add_surface(State& s, double& energy,
     } else {
         std::vector<Best> best;
         for (std::int64_t a = 0; a < nrows; ++a)
-            surface_row(static_cast<std::size_t>(srows_[static_cast<std::size_t>(a)]), s, events_,
-                        best);
+            surface_row(static_cast<std::size_t>(a), s, events_, best);
     }
     Sums sums;
     apply_events(s, sums, normal);

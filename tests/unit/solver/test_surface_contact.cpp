@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -206,3 +207,58 @@ TEST(WallWork, MovingWallWorkIsExactAtFirstContact) {
 }
 
 } // namespace
+
+TEST(SurfaceContact, FacetSkipKeepsEveryForceWithinTheMeshSize) {
+    // Each evaluation skips a facet whose vertices' sphere (centroid, radius r) is farther than
+    // r + h from a node (surface_contact.cpp, facet_spheres): the law has no force beyond h.
+    // Two blocks pressed 0.9 h into each other put nodes in the potential's tail (h/2 < d < h)
+    // and nodes just inside: the contact energy must be that of each node's exact distance from
+    // the other (axis-aligned) block's nearest side. A skip of reach r (no h) was tried: 1e-30 J
+    // against 3.08e-2 J (every force dropped). The skip changes no force: the run of 3D spheres
+    // poured to 14 ms (42 contacts) and a 2D box of 78 grains (30 ms) are bitwise the same.
+    auto m = pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m": {"density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "shapes": {"a": {"type": "rectangle", "corners": [[-2e-3, -1e-3], [2e-3, 0]]},
+                 "b": {"type": "rectangle", "corners": [[-1e-3, 0], [1e-3, 1e-3]]}},
+      "particles": [{"shape": "a", "center": [0, 0], "material": "m"},
+                    {"shape": "b", "center": [0, 1e-4], "material": "m"}],
+      "contact": {"law": "surface"}, "solver": {"final_time": 1}})",
+                                   "t", quiet);
+    // b's bottom side from y = 1e-4 down to -depth: into a (the bonds move with it, unstretched).
+    // h: each body's mesh size as the law takes it (measured on its mesh, not the nominal 0.2 mm)
+    const double ha = m.bodies.mesh_size[0], hb = m.bodies.mesh_size[1];
+    const double depth = 0.9 * std::min(ha, hb), shift = 1e-4 + depth;
+    for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i)
+        m.nodes.x0[3 * static_cast<std::size_t>(i) + 1] -= shift;
+    const double c = m.contact.at(0).stiffness, yb = -depth;
+    solver::Solver s(m);
+    s.initialize();
+    const auto& st = s.state();
+    // Exact: a node strictly inside the other block, at distance d from its nearest side.
+    struct Block {
+        double x0, x1, y0, y1;
+    } blocks[2] = {{-2e-3, 2e-3, -1e-3, 0}, {-1e-3, 1e-3, yb, yb + 1e-3}};
+    double energy = 0;
+    std::int64_t tail = 0;
+    for (std::size_t b = 0; b < 2; ++b) {
+        const auto& o = blocks[1 - b];
+        const double h = b == 0 ? hb : ha; // the other body's, whose facets push
+        for (auto i = m.bodies.begin(b); i < m.bodies.end(b); ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            const double x = st.x[3 * k], y = st.x[3 * k + 1];
+            const double d = std::min({x - o.x0, o.x1 - x, y - o.y0, o.y1 - y});
+            if (!(d > 1e-9 * h && d < h))
+                continue;
+            const double d1 = 0.5 * h;
+            energy += 0.5 * c * st.vol[k] *
+                      (d <= d1 ? d * d : d1 * d1 * (h - d) * (h - d) / ((h - d1) * (h - d1)));
+            tail += d > d1;
+        }
+    }
+    ASSERT_GT(tail, 0) << "no node in the potential's tail: the test does not reach the skip";
+    const double got = s.observe().contact_energy;
+    std::printf("[ facet skip ] %lld node(s) in the tail, contact energy %.6e J (exact %.6e)\n",
+                static_cast<long long>(tail), got, energy);
+    EXPECT_NEAR(got, energy, 1e-9 * energy);
+}
