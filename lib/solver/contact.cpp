@@ -84,6 +84,24 @@ bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double
     return false;
 }
 
+double max_moved(const State& s, const std::vector<double>& x_ref) {
+    const auto n = static_cast<std::int64_t>(s.rows.size());
+    const index_t* rows = s.rows.data();
+    const double *x = s.x.data(), *xr = x_ref.data();
+    double m2 = 0;
+#pragma omp parallel for schedule(static) reduction(max : m2) if (threaded(n))
+    for (std::int64_t a = 0; a < n; ++a) {
+        const std::int64_t i = rows[a];
+        double d2 = 0;
+        for (int d = 0; d < 3; ++d) {
+            const double e = x[3 * i + d] - xr[3 * i + d];
+            d2 += e * e;
+        }
+        m2 = std::max(m2, d2);
+    }
+    return std::sqrt(m2);
+}
+
 namespace {
 /// The record of the touching pair (i, j) at distance r (d = x_j - x_i): the force on j's body
 /// from i's body, Kn (R_c - r) V_i V_j along d/r, stored as (smaller, larger) node.
@@ -226,8 +244,14 @@ void ContactList::set_owned(const Domain& dom) {
 bool ContactList::update(State& s, const Domain& dom, const BondData* b) {
     if (!active_)
         return false;
-    // Collective: every rank rebuilds when any rank needs it.
-    if (!dom.any(!built_ || moved_farther_than(s, x_build_, 0.5 * skin_)))
+    // Collective: every rank rebuilds when any rank needs it. The surface law also keeps how far
+    // the farthest node of any rank moved since the rebuild (its row skip, surface_row).
+    if (any_surface_) {
+        moved_ = built_ ? dom.max(max_moved(s, x_build_)) : 0.0;
+        if (built_ && !(moved_ > 0.5 * skin_))
+            return false;
+        moved_ = 0;
+    } else if (!dom.any(!built_ || moved_farther_than(s, x_build_, 0.5 * skin_)))
         return false;
     if (any_surface_) {
         // Which nodes keep half their bonds (irreversible between rebuilds: bonds only break).

@@ -116,7 +116,8 @@ class ContactList {
     void surface_rows(const State& s);
     std::int64_t add_surface(State& s, double& energy, std::vector<BodyPairForce>* normal) const;
     bool torn(std::int32_t facet, const State& s) const;
-    void facet_spheres(const State& s) const;
+    /// sphere_ per facet at s (with torn_flag: reach -1 for a torn facet).
+    void facet_spheres(const State& s, bool torn_flag) const;
     struct Event;
     struct Best;
     struct Sums {
@@ -164,6 +165,11 @@ class ContactList {
     std::vector<index_t> srows_;
     std::vector<model::offset_t> sfac_off_{0}; ///< CSR srows_ -> the facets the row tests
     std::vector<std::int32_t> sfac_;
+    /// Per row at the rebuild: min over its facets of |x_i - c| - r - h (centroid c, radius r
+    /// of the facet's vertices, h its body's mesh size): the row has no force while every node
+    /// moved less than a quarter of it (surface_row).
+    std::vector<double> slack_;
+    double moved_ = 0; ///< m, farthest any node moved since the rebuild (all ranks)
     struct Event {
         index_t i;          ///< the node inside
         std::int32_t facet; ///< the facet it is pushed out of

@@ -127,6 +127,8 @@ struct BondData {
 /// the skin test of the contact and wall candidate lists.
 /// Checks the owned rows only.
 bool moved_farther_than(const State& s, const std::vector<double>& x_ref, double limit);
+/// The largest distance of an owned row's node from x_ref, m (this rank only).
+double max_moved(const State& s, const std::vector<double>& x_ref);
 
 /// Per-body constants of the bond law (bonds never cross bodies).
 struct BodyLaw {

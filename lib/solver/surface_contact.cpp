@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace pd::solver {
@@ -292,6 +293,8 @@ void ContactList::surface_rows(const State& s) {
     srows_.clear();
     sfac_off_.assign(1, 0);
     sfac_.clear();
+    slack_.clear();
+    facet_spheres(s, false); // at the rebuild's positions, torn or not
     std::vector<std::int32_t> row;
     for (std::size_t i = 0; i < s.n; ++i) {
         if (offsets_[i + 1] == offsets_[i]) // owned rows, and the ghost rows made for this law
@@ -308,6 +311,16 @@ void ContactList::surface_rows(const State& s) {
         std::sort(row.begin(), row.end());
         row.erase(std::unique(row.begin(), row.end()), row.end());
         srows_.push_back(static_cast<index_t>(i));
+        double slack = std::numeric_limits<double>::infinity();
+        for (const auto f : row) {
+            const double* c = &sphere_[4 * static_cast<std::size_t>(f)];
+            const double* x = &s.x[3 * i];
+            slack = std::min(slack, std::sqrt((x[0] - c[0]) * (x[0] - c[0]) +
+                                              (x[1] - c[1]) * (x[1] - c[1]) +
+                                              (x[2] - c[2]) * (x[2] - c[2])) -
+                                        c[3]);
+        }
+        slack_.push_back(slack);
         sfac_.insert(sfac_.end(), row.begin(), row.end());
         sfac_off_.push_back(static_cast<model::offset_t>(sfac_.size()));
     }
@@ -339,7 +352,7 @@ bool ContactList::torn(std::int32_t f, const State& s) const {
 /// farther than r + h from c is farther than h from the facet, where the potential is zero
 /// (the force acts for d < h only). Such a facet can be neither a body's closest facet with a
 /// force nor tie with one (a tie is equal distance; the one with a force is nearer than h).
-void ContactList::facet_spheres(const State& s) const {
+void ContactList::facet_spheres(const State& s, bool torn_flag) const {
     const auto nv = static_cast<std::size_t>(facets_.nv);
     const auto nf = static_cast<std::int64_t>(facets_.num());
     sphere_.resize(4 * facets_.num());
@@ -347,7 +360,7 @@ void ContactList::facet_spheres(const State& s) const {
     for (std::int64_t fi = 0; fi < nf; ++fi) {
         const auto f = static_cast<std::size_t>(fi);
         double* c = &sphere_[4 * f];
-        if (torn(static_cast<std::int32_t>(f), s)) {
+        if (torn_flag && torn(static_cast<std::int32_t>(f), s)) {
             c[0] = c[1] = c[2] = 0;
             c[3] = -1;
             continue;
@@ -382,6 +395,11 @@ struct ContactList::Best {
 void ContactList::surface_row(std::size_t a, const State& s, std::vector<Event>& out,
                               std::vector<Best>& best) const {
     const auto nv = static_cast<std::size_t>(facets_.nv);
+    // Since the rebuild a node, a facet's centroid moved at most `moved_` and a facet's radius
+    // grew at most 2 moved_, so a facet is still farther than r + h from node i (no force) when
+    // its slack exceeds 4 moved_ (the factor 1e-9: rounding of the slack).
+    if (slack_[a] > 4 * moved_ + 1e-9 * std::abs(slack_[a]))
+        return;
     const auto i = static_cast<std::size_t>(srows_[a]);
     const double* xi = &s.x[3 * i];
     const auto gi = body_group_[static_cast<std::size_t>(s.body[i])];
@@ -510,7 +528,7 @@ std::int64_t ContactList::add_surface(State& s, double& energy,
                                       std::vector<BodyPairForce>* normal) const {
     const auto nrows = static_cast<std::int64_t>(srows_.size());
     events_.clear();
-    facet_spheres(s);
+    facet_spheres(s, true);
     if (threaded(nrows)) {
 #pragma omp parallel
         {

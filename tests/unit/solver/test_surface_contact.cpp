@@ -262,3 +262,40 @@ TEST(SurfaceContact, FacetSkipKeepsEveryForceWithinTheMeshSize) {
                 static_cast<long long>(tail), got, energy);
     EXPECT_NEAR(got, energy, 1e-9 * energy);
 }
+
+TEST(SurfaceContact, RowSkipWakesUpBeforeTheGrainsMeet) {
+    // A row (a node near another grain) is skipped while its slack at the last rebuild (its
+    // distance from every listed facet's sphere, less r + h) exceeds 4x the farthest any node
+    // moved since (surface_row). With a skin of 20 h no rebuild happens while a block falls 3 h
+    // onto another: the rows must wake up in time, so the blocks touch and nothing goes h/2 in.
+    // Tried on purpose with 0x the motion: no contact at all, the block passes 0.3 h in.
+    auto m = pipeline::build_scene(R"({"dimension": 2,
+      "materials": {"m": {"density": 1200, "youngs_modulus": 3.24e7}},
+      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+      "shapes": {"a": {"type": "rectangle", "corners": [[-2e-3, -1e-3], [2e-3, 0]]},
+                 "b": {"type": "rectangle", "corners": [[-1e-3, 0], [1e-3, 1e-3]]}},
+      "particles": [{"shape": "a", "center": [0, 0], "material": "m", "fixed": true},
+                    {"shape": "b", "center": [0, 6e-4], "material": "m", "velocity": [0, -2]}],
+      "contact": {"law": "surface"}, "solver": {"final_time": 1, "contact_skin": 4e-3}})",
+                                   "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.85 * s.stable_dt().limit);
+    s.initialize();
+    std::int64_t touching = 0, deep = 0;
+    double lowest = 1;
+    while (s.state().time < (6e-4 + 0.3 * m.bodies.mesh_size[1]) / 2) {
+        s.advance();
+        const auto o = s.observe();
+        touching = std::max(touching, o.contact_count);
+        deep += o.inside_pairs;
+        for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i)
+            lowest = std::min(lowest, s.state().x[3 * static_cast<std::size_t>(i) + 1]);
+    }
+    std::printf("[ row skip ] %lld touching, lowest node of b %.3g h below a's top, %lld "
+                "rebuild(s)\n",
+                static_cast<long long>(touching), -lowest / m.bodies.mesh_size[0],
+                static_cast<long long>(s.contact().rebuilds()));
+    EXPECT_GT(touching, 0);
+    EXPECT_EQ(deep, 0);
+    EXPECT_GT(lowest, -0.5 * m.bodies.mesh_size[0]);
+}
