@@ -5,7 +5,7 @@ pd-file, with h5py + matplotlib: the data of pd-post --fragments (psd.csv), comp
 fragments.py. Copy and edit.
 
     plot_psd.py FILE.h5 [-o psd.png] [--fines-nodes 10] [--cutoff D] [--curves 5]
-                [--length L] [--csv psd_table.csv]
+                [--wall K | --body B] [--length L] [--csv psd_table.csv]
 
 Panels: the mass-weighted cumulative grading (fraction finer than d, log d) at --curves frames
 spread over the run; B_r against time; and, when the file has a wall reaction (a rigid wall's
@@ -34,8 +34,14 @@ def fail(msg):
     sys.exit(2)
 
 
-def wall_reaction(f):
-    """(time, reaction, label) of the file's wall, or None when it records none."""
+def wall_reaction(f, a):
+    """(time, reaction, label) of the chosen or the file's wall, or None when it records none."""
+    if a.wall is not None:
+        t, r, _, label, _ = plot_wall_reaction.rigid_wall(f, a.wall)
+        return t, r, label
+    if a.body is not None:
+        t, r, _, label, _ = plot_wall_reaction.meshed_wall(f, a.body, None)
+        return t, r, label
     if "walls" in f and "observables/wall_force" in f:
         t, r, _, label, _ = plot_wall_reaction.rigid_wall(f, 0)
         return t, r, label
@@ -66,6 +72,9 @@ def main():
     ap.add_argument("--fines-nodes", type=int, default=10)
     ap.add_argument("--cutoff", type=float, default=0.0, help="Hardin cut-off d (m)")
     ap.add_argument("--curves", type=int, default=5, help="grading curves drawn")
+    who = ap.add_mutually_exclusive_group()
+    who.add_argument("--wall", type=int, help="rigid wall index (default: 0)")
+    who.add_argument("--body", type=int, help="body id of a fixed or driven meshed wall")
     ap.add_argument("--length", type=float, help="length (2D) or area (3D) for a stress")
     ap.add_argument("--csv", help="also write the per-frame table here")
     a = ap.parse_args()
@@ -77,7 +86,7 @@ def main():
         if "particles/nodes/fragment" not in f:
             fail("%s: no /particles/nodes/fragment (add \"fragment\" to solver.fields)" % a.file)
         frames = grading_curves(f, a)
-        wall = wall_reaction(f)
+        wall = wall_reaction(f, a)
     t = np.array([fr[1] for fr in frames])
     br = np.array([fr[2]["B_r"] for fr in frames])
     if a.csv:
