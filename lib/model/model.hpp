@@ -40,6 +40,12 @@ struct Material {
     /// Bonds also break when compressed beyond the critical stretch (length < xi (1 - s0); RNP:
     /// S < -S_c), as PeriDEM does (|s| > s0, spec 1.3); off = tension only (pdgrain decision 4).
     bool break_in_compression = false;
+    /// Random flaws (issue 31): each bond's critical stretch is s0 times a Weibull factor of
+    /// modulus `flaw_modulus` and median 1 (model/flaws.hpp), drawn from `flaw_seed`, the body
+    /// and the bond's two node indices in the body; 0 = none (every bond breaks at s0).
+    double flaw_modulus = 0;
+    std::int64_t flaw_seed = 0;
+    bool has_flaws() const { return flaw_modulus > 0; }
     double bulk_modulus() const; ///< K, Pa, from E and nu
     bool breakable() const { return fracture_energy > 0; }
 };

@@ -9,6 +9,7 @@
 #include "post/crack.hpp"
 #include "post/crack_arrival.hpp"
 #include "post/csv.hpp"
+#include "post/fragments.hpp"
 #include "post/grains.hpp"
 #include "post/vtk_export.hpp"
 #include "post/walls.hpp"
@@ -94,9 +95,9 @@ void refuse_special_products(const fs::path& out_dir, const std::string& stem) {
     std::error_code ec;
     if (!fs::is_directory(out_dir, ec))
         return;
-    const std::array<std::string, 6> csv = {"observables.csv", "grains.csv",
-                                            "walls.csv",       "crack.csv",
-                                            "crack_nodes.csv", "crack_summary.csv"};
+    const std::array<std::string, 8> csv = {
+        "observables.csv", "grains.csv",        "walls.csv",     "crack.csv",
+        "crack_nodes.csv", "crack_summary.csv", "fragments.csv", "psd.csv"};
     for (const auto& e : fs::directory_iterator(out_dir, ec)) {
         const std::string name = e.path().filename().string();
         const auto ext = e.path().extension().string();
@@ -192,6 +193,14 @@ struct Exporter {
         made.push_back(fmt::format("{} grain row(s) -> {}", n, csv.string()));
     }
 
+    void fragments() {
+        const auto csv = out_dir / "fragments.csv", psd = out_dir / "psd.csv";
+        const auto c =
+            post::write_fragments_csv(f, m, opt.fragment_opt, csv.string(), psd.string(), progress);
+        made.push_back(fmt::format("{} fragment row(s) -> {}; {} frame(s) (d_cut {:.4g} m) -> {}",
+                                   c.rows, csv.string(), c.frames, c.cutoff, psd.string()));
+    }
+
     void walls(bool has_obs) {
         const bool meshed_walls = !store::read_reaction_bodies(f).empty();
         if (opt.walls && has_obs && (!m.walls.empty() || meshed_walls)) {
@@ -246,6 +255,9 @@ void post(const PostOptions& opt, Context& ctx) {
         return run_check(opt, ctx);
     const bool crack = !opt.crack_origin.empty() || !opt.crack_direction.empty();
     const post::CrackOptions crack_opt = crack_options(opt);
+    if (opt.fragment_opt.fines_nodes < 1 || !(opt.fragment_opt.cutoff >= 0))
+        throw ConfigError(opt.fragment_opt.fines_nodes < 1 ? "--fines-nodes" : "--psd-cutoff",
+                          "expected --fines-nodes >= 1 and --psd-cutoff >= 0 (m)");
     const fs::path out_dir = output_dir(opt);
     std::string summary;
     {
@@ -281,6 +293,8 @@ void post(const PostOptions& opt, Context& ctx) {
                          store::path::observables);
         if (opt.grains && has_frames)
             run.grains();
+        if (opt.fragments && has_frames)
+            run.fragments();
         run.walls(has_obs);
         if (crack && has_frames)
             run.crack(crack_opt);

@@ -6,6 +6,7 @@
 
 #include "core/tool.hpp"
 #include "post/crack.hpp"
+#include "post/fragments.hpp"
 
 #include <string>
 #include <vector>
@@ -28,7 +29,10 @@ struct PostOptions {
     /// Reference axis of the crack angle in crack_summary.csv (e.g. the notch axis); optional.
     std::vector<double> crack_axis;
     post::CrackOptions crack_opt; ///< threshold, band, window (origin/direction set from above)
-    double progress_seconds = 10; ///< wall-clock seconds between progress lines
+    /// fragments.csv + psd.csv (on request: one pass over the frames' fragment ids)
+    bool fragments = false;
+    post::FragmentOptions fragment_opt; ///< fines threshold and Hardin cut-off
+    double progress_seconds = 10;       ///< wall-clock seconds between progress lines
     pd::CommonOptions common;
 };
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solver/bond_forces.hpp"
 
+#include "model/flaws.hpp"
 #include "solver/bond_kernels.hpp"
 
 #include <algorithm>
@@ -233,8 +234,8 @@ PD_INLINE bool pmb_owns(const Arrays& v, const State& s, const BodyLaw& law, std
             if (!pmb_owns(v, s, law, a, i, body))                                                  \
                 return;                                                                            \
             double fi[3], e_i = 0;                                                                 \
-            if (!hot(v, i, 1.0 + law.s0[body], Comp ? law.s0_lo[body] : 0.0, v.off[a],             \
-                     v.off[a + 1], fi, e_i)) {                                                     \
+            if (!hot(v, i, v.op ? v.op[a] : 1.0 + law.s0[body], Comp ? law.s0_lo[body] : 0.0,      \
+                     v.off[a], v.off[a + 1], fi, e_i)) {                                           \
                 pmb_general_row<Breakable, Energy, Comp>(v, law, body, a, i, energy, released,     \
                                                          repulsion, broken);                       \
                 return;                                                                            \
@@ -358,6 +359,28 @@ BondResult rnp_kernel(State& s, BondData& b, const BodyLaw& law) {
     return {r.energy, r.broken, r.released, 0.0};
 }
 
+/// Flaws (model/flaws.hpp) of row a: each bond breaks at xi (1 + s0 w), w its Weibull factor;
+/// op[a] = 1 + the row's least critical stretch (1 + s0 without flaws).
+void flaw_row(const State& s, BondData& b, const BodyLaw& law, std::size_t a, std::size_t body) {
+    const double s0 = law.s0[body];
+    b.op[a] = 1.0 + s0;
+    if (!(law.flaw_m[body] > 0))
+        return;
+    const std::int64_t i0 = law.first_node[body];
+    const std::int64_t i = s.rows[a] - i0;
+    double least = std::numeric_limits<double>::infinity();
+    for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        const double sc =
+            s0 * model::flaw_factor(law.flaw_m[body], law.flaw_seed[body],
+                                    static_cast<std::int64_t>(body), i, b.neighbor[kk] - i0);
+        b.lc[kk] = b.xi[kk] * (1.0 + sc);
+        least = std::min(least, sc);
+    }
+    if (b.offsets[a + 1] > b.offsets[a])
+        b.op[a] = 1.0 + least;
+}
+
 } // namespace
 
 void bond_constants(const State& s, BondData& b, BodyLaw& law) {
@@ -367,6 +390,7 @@ void bond_constants(const State& s, BondData& b, BodyLaw& law) {
     b.wv.assign(b.omega.empty() ? 0 : nbond, 0.0);
     b.len.assign(b.wv.size(), 0.0);
     b.inv_len.assign(b.wv.size(), 0.0);
+    b.op.assign(law.any_flaws ? b.offsets.size() - 1 : 0, 0.0);
     for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a) {
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(s.rows[a])]);
         const double s0 = law.s0[body];
@@ -379,6 +403,8 @@ void bond_constants(const State& s, BondData& b, BodyLaw& law) {
             if (!b.wv.empty())
                 b.wv[kk] = b.omega[kk] * b.beta[kk] * vj;
         }
+        if (law.any_flaws)
+            flaw_row(s, b, law, a, body);
     }
     if (law.m.size() != s.n)
         return; // no LPS body

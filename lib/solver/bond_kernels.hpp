@@ -72,6 +72,7 @@ struct Arrays {
         , kb(b.kb.data())
         , wv(b.wv.data())
         , lc(b.lc.data())
+        , op(b.op.empty() ? nullptr : b.op.data())
         , alive(b.alive.data()) {}
     std::int64_t n;
     const index_t* rows;
@@ -80,6 +81,7 @@ struct Arrays {
     const offset_t* off;
     const index_t* nb;
     const double *xi, *beta, *om, *kb, *wv, *lc;
+    const double* op; ///< BondData::op (nullptr: no flaws, 1 + s0 of the body)
     std::uint8_t* alive;
 };
 

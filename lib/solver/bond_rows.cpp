@@ -22,6 +22,10 @@ void size_law(BodyLaw& law, std::size_t nb, int dimension) {
     law.c.resize(nb);
     law.s0.resize(nb);
     law.s0_lo.assign(nb, 0.0);
+    law.flaw_m.assign(nb, 0.0);
+    law.flaw_seed.assign(nb, 0);
+    law.first_node.assign(nb, 0);
+    law.any_flaws = false;
     law.lps.assign(nb, 0);
     law.rnp.assign(nb, 0);
     law.rnp_c.assign(nb, 0.0);
@@ -101,6 +105,12 @@ void law_constants(Forces& f) {
         if (mat.break_in_compression && std::isfinite(f.law.s0[b]) && !f.m.bodies.fixed[b]) {
             f.law.s0_lo[b] = mat.law == model::Law::rnp ? 1.0 : 1.0 - f.law.s0[b];
             f.law.any_compressive = true;
+        }
+        if (mat.has_flaws() && std::isfinite(f.law.s0[b]) && !f.m.bodies.fixed[b]) {
+            f.law.flaw_m[b] = mat.flaw_modulus;
+            f.law.flaw_seed[b] = mat.flaw_seed;
+            f.law.first_node[b] = f.m.bodies.begin(b);
+            f.law.any_flaws = true;
         }
         f.law.krep[b] =
             18.0 * mat.bulk_modulus() / (M_PI * std::pow(f.m.bodies.horizon[b], f.m.dimension + 2));

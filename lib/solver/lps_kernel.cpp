@@ -242,7 +242,7 @@ PD_INLINE void pass1_finish(const Lps& w, const BodyLaw& law, std::size_t body, 
         double mi = 0;                                                                             \
         bool damaged = false;                           /* breaks beyond xi (1 + s0), as b.lc */   \
         const double lo = Comp ? law.s0_lo[body] : 0.0; /* Comp: below xi (1 - s0) */              \
-        if (!hot(v, w, i, 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], r))                      \
+        if (!hot(v, w, i, v.op ? v.op[a] : 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], r))     \
             pass1_general<Breakable, Comp, Energy>(v, a, i, lo, r, mi, damaged, broken);           \
         pass1_finish<Energy>(w, law, body, i, r, mi, damaged, v.vol, energy);                      \
     }

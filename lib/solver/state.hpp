@@ -116,6 +116,9 @@ struct BondData {
     std::vector<double> kb; ///< PMB: c stiff V_j / xi (force density = kb (l - xi) / l), N m-7
     std::vector<double> wv; ///< LPS: omega beta V_j, m3
     std::vector<double> lc; ///< length at which the bond breaks, xi (1 + s0) (inf: never), m
+    /// With flaws only (else empty): per row, 1 + the least critical stretch of its bonds, the
+    /// threshold of the hot loops' "a bond may break" test (the bond's own is lc).
+    std::vector<double> op;
     /// LPS work arrays from the dilatation pass for the force pass: `len` holds
     /// omega beta V_j e / l and `inv_len` omega beta V_j xi / l (e = l - xi, l = |x_j - x_i|), so
     /// both passes do one sqrt and one division per bond, and the force pass's bond force is
@@ -140,6 +143,11 @@ struct BodyLaw {
     /// Compressive breaking (Material::break_in_compression): 1 - s0, bonds shorter than
     /// xi (1 - s0) break; 0 = tension only (no length is below 0). RNP: 1 = S < -S_c breaks.
     std::vector<double> s0_lo;
+    /// Flaws (model/flaws.hpp) per body: Weibull modulus (0 = none), seed, first node index
+    /// (the bond's node indices within the body are counted from it); any_flaws: some has them.
+    std::vector<double> flaw_m;
+    std::vector<std::int64_t> flaw_seed, first_node;
+    bool any_flaws = false;
     std::vector<double> kappa; ///< LPS bulk modulus of the d-dimensional problem, Pa
     std::vector<double> mu;    ///< LPS shear modulus, Pa
     double alpha = 15;         ///< LPS shear factor: 15 (3D), 8 (2D)

@@ -55,6 +55,10 @@ void write_materials(h5::File& f, const model::Model& m) {
         put_scalar(f, g + "/fracture_energy", mat.fracture_energy, "J m-2");
         put_scalar(f, g + "/break_in_compression",
                    static_cast<std::int32_t>(mat.break_in_compression), "1");
+        if (mat.has_flaws()) { // 1.7.0, written only with flaws
+            put_scalar(f, g + "/flaw_modulus", mat.flaw_modulus, "1");
+            put_scalar(f, g + "/flaw_seed", mat.flaw_seed, "1");
+        }
     }
 }
 

@@ -46,6 +46,25 @@ void check_solver(const h5::File& f, model::SolverSettings& S) {
                           fmt::format("{}: must be >= 0", S.contact_skin));
 }
 
+/// Flaws of a material (1.7.0; absent = none): a Weibull modulus in [0.5, 1000] and a seed >= 0
+/// of a breakable PMB or LPS material breaking in tension only.
+void read_flaws(const h5::File& f, const std::string& g, model::Material& mat) {
+    const bool m = f.exists(g + "/flaw_modulus"), seed = f.exists(g + "/flaw_seed");
+    if (!m && !seed)
+        return;
+    if (!m || !seed)
+        throw SchemaError(f.name(), g + (m ? "/flaw_seed" : "/flaw_modulus"),
+                          "missing (flaw_modulus and flaw_seed come together)");
+    mat.flaw_modulus = get_scalar<double>(f, g + "/flaw_modulus");
+    mat.flaw_seed = get_scalar<std::int64_t>(f, g + "/flaw_seed");
+    require_between(f, g + "/flaw_modulus", mat.flaw_modulus, 0.5, 1000, "1");
+    if (mat.flaw_seed < 0)
+        throw SchemaError(f.name(), g + "/flaw_seed", fmt::format("{} < 0", mat.flaw_seed));
+    if (!mat.breakable() || mat.law == model::Law::rnp || mat.break_in_compression)
+        throw SchemaError(f.name(), g + "/flaw_modulus",
+                          "flaws need a breakable PMB or LPS material breaking in tension only");
+}
+
 /// /materials, ordered by their index attribute.
 void read_materials(const h5::File& f, model::Model& m) {
     if (!f.exists(path::materials))
@@ -84,6 +103,7 @@ void read_materials(const h5::File& f, model::Model& m) {
         require_between(f, g + "/density", mat.density, 1e-6, 1e6, "kg m-3");
         require_between(f, g + "/poisson_ratio", mat.poisson_ratio, -1, 0.5, "1");
         require_between(f, g + "/fracture_energy", mat.fracture_energy, 0, 1e15, "J m-2");
+        read_flaws(f, g, mat);
     }
 }
 

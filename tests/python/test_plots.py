@@ -29,6 +29,7 @@ def check_png(path):
     ("plot_wall_reaction.py", ["--length", "2e-3"]),
     ("plot_energies.py", []),
     ("plot_damage_maps.py", []),
+    ("plot_psd.py", ["--length", "2e-3", "--csv", "psd_table.csv"]),
 ])
 def test_disc_plots(tmp_path_factory, bin_dir, tmp_path, name, args):
     h5, _ = resting_disc(tmp_path_factory, bin_dir)

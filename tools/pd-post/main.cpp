@@ -37,6 +37,11 @@ int main(int argc, char** argv) {
     app.add_option("--crack-threshold", opt.crack_opt.threshold, "phi of a cracked node (0.3)");
     app.add_option("--crack-band", opt.crack_opt.band, "max distance from the path (m)");
     app.add_option("--crack-window", opt.crack_opt.half_window, "speed fit half-width (frames)");
+    app.add_flag("--fragments", opt.fragments, "write fragments.csv and psd.csv");
+    app.add_option("--fines-nodes", opt.fragment_opt.fines_nodes,
+                   "fragments of fewer nodes are fines (10)");
+    app.add_option("--psd-cutoff", opt.fragment_opt.cutoff,
+                   "Hardin's cut-off size (m; 0 = diameter of fines-nodes nodes)");
     app.add_option("--progress-seconds", opt.progress_seconds, "seconds between progress lines");
     pd::add_common_flags(app, opt.common);
     try {

@@ -72,12 +72,39 @@ void elastic_constants(json::const_iterator it, const std::string& w, const mode
     mat.poisson_ratio = nu_law > -2 ? nu_law : nu;
 }
 
+/// "flaws": {"law": "weibull", "modulus": m, "seed": k} (model/flaws.hpp); absent = none.
+void parse_flaws(const json& mj, const std::string& w, model::Material& mat) {
+    if (!mj.contains("flaws"))
+        return;
+    const std::string wf = w + ".flaws";
+    const json& j = mj["flaws"];
+    if (!j.is_object())
+        throw ConfigError(wf, "expected an object {\"law\": \"weibull\", \"modulus\": m, "
+                              "\"seed\": k}");
+    check_keys(j, wf, {"law", "modulus", "seed"});
+    if (text(j, wf, "law", "weibull", {"weibull", "none"}) == "none")
+        return;
+    mat.flaw_modulus = positive(j, wf, "modulus", 0, true);
+    if (!(mat.flaw_modulus >= 0.5 && mat.flaw_modulus <= 1000))
+        throw ConfigError(wf + ".modulus",
+                          fmt::format("{:g} is outside [0.5, 1000]", mat.flaw_modulus));
+    const double seed = number(j, wf, "seed", 0);
+    if (!(seed >= 0 && seed < 9e15) || seed != std::floor(seed))
+        throw ConfigError(wf + ".seed", "expected an integer >= 0");
+    mat.flaw_seed = static_cast<std::int64_t>(seed);
+    if (!(mat.fracture_energy > 0))
+        throw ConfigError(wf, "the material is unbreakable (fracture_energy 0): no flaws");
+    if (mat.law == model::Law::rnp || mat.break_in_compression)
+        throw ConfigError(wf, "flaws apply to the PMB and LPS laws breaking in tension only "
+                              "(not law \"rnp\", not break_in_compression)");
+}
+
 model::Material parse_material(json::const_iterator it, const model::Model& m) {
     const std::string w = "materials." + it.key();
     check_keys(*it, w,
                {"law", "density", "youngs_modulus", "bulk_modulus", "shear_modulus",
                 "poisson_ratio", "fracture_energy", "fracture_toughness", "influence",
-                "break_in_compression"});
+                "break_in_compression", "flaws"});
     model::Material mat;
     mat.name = it.key();
     for (char ch : mat.name)
@@ -108,6 +135,7 @@ model::Material parse_material(json::const_iterator it, const model::Model& m) {
         throw ConfigError(w + ".fracture_energy", "the RNP law needs Gc > 0");
     // PeriDEM compatibility (spec 1.3: |s| > s0): bonds break in compression too.
     mat.break_in_compression = boolean(*it, w, "break_in_compression", false);
+    parse_flaws(*it, w, mat);
     return mat;
 }
 
