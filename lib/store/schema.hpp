@@ -16,7 +16,7 @@ inline constexpr const char* schema_name = "pd-file";
 inline constexpr int schema_major = 1;
 inline constexpr int schema_minor = 2;
 inline constexpr int schema_patch = 0;
-inline constexpr const char* schema_version = "1.6.0";
+inline constexpr const char* schema_version = "1.7.0";
 
 namespace path {
 // root attributes: schema, schema_version, units, dimension, planar, thickness, title
@@ -30,6 +30,7 @@ inline constexpr const char* nodes = "/nodes";
 inline constexpr const char* bonds = "/bonds";
 inline constexpr const char* contact = "/contact";
 inline constexpr const char* walls = "/walls";
+inline constexpr const char* wall_meshes = "/walls/mesh"; // /walls/mesh/<k>/{points,cells}
 inline constexpr const char* loading = "/loading";
 inline constexpr const char* cracks = "/cracks";
 inline constexpr const char* solver = "/solver";
