@@ -5,6 +5,7 @@
 #pragma once
 
 #include "model/model.hpp"
+#include "model/wall_mesh.hpp"
 
 #include <algorithm>
 #include <array>
@@ -71,6 +72,11 @@ inline double wall_distance(const Wall& w, const double* x) {
         double d = 0;
         for (std::size_t q = 0; q < 3; ++q)
             d += (x[q] - w.point[q]) * w.normal[q];
+        return d;
+    }
+    if (w.shape == WallShape::mesh) {
+        double d = HUGE_VAL, n[3];
+        w.mesh->closest(x, HUGE_VAL, d, n);
         return d;
     }
     const double r = std::hypot(x[0] - w.point[0], x[1] - w.point[1], x[2] - w.point[2]);

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -139,7 +140,10 @@ enum class WallShape : std::uint8_t {
     plane = 0,          ///< half-space boundary: `point` on it, unit `normal` into the free side
     circle_inside = 1,  ///< grains inside a circle (2D) / sphere (3D) of `radius` about `point`
     circle_outside = 2, ///< grains outside a circle/sphere (an obstacle)
+    mesh = 3,           ///< triangulated surface (3D, e.g. STL) or polyline (2D): `Wall::mesh`
 };
+
+class WallMesh; // model/wall_mesh.hpp
 
 /// Where a wall enters (at its start_time, or at t = 0).
 enum class WallEnter : std::uint8_t {
@@ -170,6 +174,9 @@ struct Wall {
     /// (R_c of the pair's node law, 0 for the surface law); `point` then holds where it entered.
     WallEnter enter = WallEnter::at_point;
     double gap = 0; ///< m, above_grains only
+    /// mesh only: the surface at the wall's t = 0 pose (shared, immutable; its normals point
+    /// into the free side). `point` is the centre of its bounding box.
+    std::shared_ptr<const WallMesh> mesh;
 };
 
 /// Space function S(X) of a boundary condition, of the reference position.

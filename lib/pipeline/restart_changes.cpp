@@ -55,6 +55,10 @@ V3 vec(const json& v, const std::string& key, int dim) {
 void set_wall(model::Model& m, model::Wall& w, const std::string& field, const json& v,
               const std::string& key) {
     const bool plane = w.shape == model::WallShape::plane;
+    if (w.shape == model::WallShape::mesh &&
+        (field == "point" || field == "center" || field == "normal" || field == "radius"))
+        throw ConfigError(key, "a mesh wall's surface is its file or polyline: move it with "
+                               "velocity, angular_velocity and rotation_center");
     if (field == "point" || field == "center") {
         if ((field == "point") != plane)
             throw ConfigError(key, plane ? "a plane has a point" : "a circle has a center");
@@ -161,6 +165,10 @@ Changes apply(model::Model& m, const std::vector<std::string>& sets) {
 
 /// Signed distance of x from wall w at pose p (positive on the free side).
 double distance(const model::Wall& w, const solver::WallPose& p, const double* x) {
+    if (w.shape == model::WallShape::mesh) {
+        double n[3];
+        return solver::wall_distance(w, p, x, n, HUGE_VAL);
+    }
     if (w.shape == model::WallShape::plane)
         return (x[0] - p.point[0]) * p.normal[0] + (x[1] - p.point[1]) * p.normal[1] +
                (x[2] - p.point[2]) * p.normal[2];

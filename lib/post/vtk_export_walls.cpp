@@ -3,6 +3,7 @@
 #include "post/vtk_export_walls.hpp"
 
 #include "model/functions.hpp"
+#include "model/wall_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -209,6 +210,28 @@ void sphere_outline(WallOutline& o, const Pose& p, double r, std::int32_t wall) 
         }
 }
 
+/// A triangulated wall's cells in their pose at t: x = c(t) + R(theta) (X - c0). In 3D each
+/// triangle is a quadrilateral with its last corner repeated (the outline's one cell type).
+void mesh_outline(WallOutline& o, const model::Wall& w, const Pose& p, std::int32_t wall) {
+    const auto first = static_cast<std::int64_t>(o.num_points());
+    const auto& X = w.mesh->points();
+    for (std::size_t i = 0; i + 2 < X.size(); i += 3) {
+        const V3 rel =
+            rotate({X[i] - w.centre[0], X[i + 1] - w.centre[1], X[i + 2] - w.centre[2]}, p.theta);
+        add_point(o, p, {p.centre[0] + rel[0], p.centre[1] + rel[1], p.centre[2] + rel[2]});
+    }
+    const auto& c = w.mesh->cells();
+    const auto per = static_cast<std::size_t>(w.mesh->dim());
+    for (std::size_t k = 0; k + per <= c.size(); k += per) {
+        if (per == 3)
+            o.cells.insert(o.cells.end(),
+                           {first + c[k], first + c[k + 1], first + c[k + 2], first + c[k + 2]});
+        else
+            o.cells.insert(o.cells.end(), {first + c[k], first + c[k + 1]});
+        o.wall.push_back(wall);
+    }
+}
+
 } // namespace
 
 WallOutline wall_outline(const std::vector<model::Wall>& walls, int dimension,
@@ -226,6 +249,8 @@ WallOutline wall_outline(const std::vector<model::Wall>& walls, int dimension,
                 others.push_back(pose(walls[j], t));
         if (w.shape == model::WallShape::plane)
             plane_outline(o, p, dimension, extent, wall, others);
+        else if (w.shape == model::WallShape::mesh)
+            mesh_outline(o, w, p, wall);
         else if (dimension != 3) // circles (2D) and spheres (3D) about the current point
             circle_outline(o, p, w.radius, wall);
         else

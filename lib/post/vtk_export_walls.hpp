@@ -7,8 +7,9 @@
 // equal. An infinite plane is drawn as a patch centred on the projection of the centre of the
 // nodes' reference bounding box: in 2D a segment, in 3D a square, of side 1.2 x the box diagonal.
 // A circle wall is a closed polyline of 128 segments (2D), a sphere a 16 x 32 latitude-longitude
-// quadrilateral mesh (3D); their points turn with the wall. Meshed walls (fixed or driven bodies,
-// e.g. a drum's protrusion) are nodes and are in the node frames already.
+// quadrilateral mesh (3D); their points turn with the wall. A triangulated wall is drawn as its
+// cells in their pose (3D: one quadrilateral with a repeated corner per triangle). Meshed walls
+// (fixed or driven bodies, e.g. a drum's protrusion) are nodes and are in the node frames already.
 #pragma once
 
 #include "model/model.hpp"

@@ -2,6 +2,7 @@
 #include "solver/walls.hpp"
 
 #include "model/functions.hpp"
+#include "model/wall_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -28,9 +29,30 @@ V3 rotate(const V3& v, const V3& theta) {
     return r;
 }
 
+/// Signed distance of a mesh wall: x taken into the wall's reference frame by the inverse pose,
+/// the normal back by the pose; +infinity (n = 0) when no cell lies within rmax.
+double mesh_distance(const model::Wall& w, const WallPose& p, const double* x, double n[3],
+                     double rmax) {
+    const V3 rel = rotate({x[0] - p.centre[0], x[1] - p.centre[1], x[2] - p.centre[2]},
+                          {-p.theta[0], -p.theta[1], -p.theta[2]});
+    const double X[3] = {w.centre[0] + rel[0], w.centre[1] + rel[1], w.centre[2] + rel[2]};
+    double d = HUGE_VAL, nr[3] = {0, 0, 0};
+    if (!w.mesh->closest(X, rmax, d, nr)) {
+        n[0] = n[1] = n[2] = 0;
+        return HUGE_VAL;
+    }
+    const V3 nw = rotate({nr[0], nr[1], nr[2]}, p.theta);
+    for (int k = 0; k < 3; ++k)
+        n[k] = nw[k];
+    return d;
+}
+
 /// Signed distance of x from the wall (positive on the free side) and the unit normal into
-/// the free side at the closest point.
-double distance(const model::Wall& w, const WallPose& p, const double* x, double n[3]) {
+/// the free side at the closest point (mesh walls: searched within rmax).
+double distance(const model::Wall& w, const WallPose& p, const double* x, double n[3],
+                double rmax) {
+    if (w.shape == model::WallShape::mesh)
+        return mesh_distance(w, p, x, n, rmax);
     if (w.shape == model::WallShape::plane) {
         double d = 0;
         for (int k = 0; k < 3; ++k) {
@@ -53,6 +75,11 @@ double distance(const model::Wall& w, const WallPose& p, const double* x, double
 
 } // namespace
 
+double wall_distance(const model::Wall& w, const WallPose& p, const double* x, double n[3],
+                     double rmax) {
+    return distance(w, p, x, n, rmax);
+}
+
 WallPose wall_pose(const model::Wall& w, double t) {
     WallPose p;
     double rate = 0;
@@ -65,6 +92,7 @@ WallPose wall_pose(const model::Wall& w, double t) {
     for (int d = 0; d < 3; ++d)
         p.point[d] = p.centre[d] + rel[d];
     p.normal = rotate(w.normal, theta);
+    p.theta = theta;
     for (int d = 0; d < 3; ++d) {
         p.velocity[d] = w.velocity[d] * rate;
         p.omega[d] = w.angular_velocity[d] * rate;
@@ -92,6 +120,7 @@ WallContact::WallContact(const model::Model& m, double skin)
                 }
             }
     active_ = std::any_of(law_.begin(), law_.end(), [](auto k) { return k >= 0; });
+    reach_ = rc_max_ + skin_;
     for (const auto& w : walls_)
         for (int d = 0; d < 3; ++d)
             moving_ = moving_ || w.velocity[static_cast<std::size_t>(d)] != 0 ||
@@ -150,7 +179,7 @@ void WallContact::rebuild(const State& s) {
             if (law_[g * walls_.size() + w] < 0)
                 continue;
             double n[3];
-            const double d = distance(walls_[w], pose[w], &s.x[3 * i], n);
+            const double d = distance(walls_[w], pose[w], &s.x[3 * i], n, reach_);
             if (d < reach) {
                 wall_of_.push_back(static_cast<std::int32_t>(w));
                 any = true;
@@ -244,8 +273,8 @@ double WallContact::first_contact(const State& s, const std::vector<WallPose>& p
             const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
             const double r0 = law.offset();
             double n[3], np[3];
-            const double d = distance(walls_[w], pose[w], x, n);
-            if (d >= r0 || (present_prev[w] && distance(walls_[w], prev[w], x, np) < r0))
+            const double d = distance(walls_[w], pose[w], x, n, reach_);
+            if (d >= r0 || (present_prev[w] && distance(walls_[w], prev[w], x, np, reach_) < r0))
                 continue; // not touching, or touching already with the wall a step before
             const bool surface = law.law == model::ContactLaw::surface;
             const double vi = s.vol[i];
@@ -321,7 +350,7 @@ void WallContact::add_nodes(State& s, const Step& st, std::int64_t& touching, do
                 continue;
             const auto& law = m_.contact[static_cast<std::size_t>(law_[g * nw + w])];
             double n[3];
-            const double d = distance(walls_[w], pose[w], x, n);
+            const double d = distance(walls_[w], pose[w], x, n, reach_);
             const double r0 = law.offset(); // R_c (node law) or 0 (surface law)
             if (d >= r0)
                 continue;

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
-// Contact of nodes with rigid analytic walls (planes, circles/spheres inside or outside; fixed,
-// translating or rotating). A wall acts on a node like a mirror node of the same volume behind
-// its surface: f_i = Kn (R_c - d) V_i n for signed distance d < R_c (n into the free side), with
-// the (grain group, wall group) law of the contact table. Coulomb friction opposes slip relative
-// to the moving wall surface. Every wall receives the reaction force and its moment about the
-// wall's rotation centre. Candidate nodes (every moving node within R_c + skin of a wall; none is
-// skipped by its depth in its grain) are kept in a list with a skin, rebuilt when a node moved
-// more than half the skin minus a bound on how far any wall point near a node moved (translation
-// plus rotation times the farthest node's distance from the rotation centre plus the reach).
+// Contact of nodes with rigid walls (planes, circles/spheres inside or outside, triangulated
+// surfaces and polylines: model/wall_mesh.hpp; fixed, translating or rotating). A mesh wall's
+// distance is found in its reference frame (the node moved by the inverse pose) and only within
+// the candidate reach R_c + skin: a node deeper than that behind a mesh face is not pushed. A wall
+// acts on a node like a mirror node of the same volume behind its surface: f_i = Kn (R_c - d) V_i n
+// for signed distance d < R_c (n into the free side), with the (grain group, wall group) law of the
+// contact table. Coulomb friction opposes slip relative to the moving wall surface. Every wall
+// receives the reaction force and its moment about the wall's rotation centre. Candidate nodes
+// (every moving node within R_c + skin of a wall; none is skipped by its depth in its grain) are
+// kept in a list with a skin, rebuilt when a node moved more than half the skin minus a bound on
+// how far any wall point near a node moved (translation plus rotation times the farthest node's
+// distance from the rotation centre plus the reach).
 #pragma once
 
 #include "model/model.hpp"
@@ -25,8 +28,14 @@ struct WallPose {
     std::array<double, 3> centre; ///< m, rotation centre
     std::array<double, 3> velocity;
     std::array<double, 3> omega;
+    std::array<double, 3> theta; ///< rad, rotation vector since t = 0
 };
 WallPose wall_pose(const model::Wall& w, double t);
+/// Signed distance of x from wall w at pose p (positive on the free side) and the unit normal n
+/// into the free side at the closest point; a mesh wall's closest cell is searched within rmax
+/// (+infinity, n = 0, if none lies within it).
+double wall_distance(const model::Wall& w, const WallPose& p, const double* x, double n[3],
+                     double rmax);
 
 /// Per-wall contact result of one force evaluation.
 struct WallLoad {
@@ -109,6 +118,7 @@ class WallContact {
     bool active_ = false;
     double skin_ = 0;
     double rc_max_ = 0;
+    double reach_ = 0; ///< rc_max_ + skin_: how far a mesh wall's closest cell is searched
     // candidates: node-major CSR of walls
     std::vector<index_t> nodes_;
     std::vector<std::int64_t> offsets_;

@@ -3,6 +3,7 @@
 
 #include "core/version.hpp"
 #include "h5/file.hpp"
+#include "model/wall_mesh.hpp"
 #include "store/model_io_detail.hpp"
 #include "store/schema.hpp"
 
@@ -185,6 +186,14 @@ void write_walls(h5::File& f, const model::Model& m) {
             put(f, w + "/enter", enter, {nw}, "1");
             put(f, w + "/gap", gap, {nw}, "m");
         }
+        // 1.7.0: the surface of each triangulated wall, in its t = 0 pose.
+        for (std::size_t k = 0; k < m.walls.size(); ++k)
+            if (const auto& mesh = m.walls[k].mesh; mesh) {
+                const std::string g = fmt::format("{}/{}", path::wall_meshes, k);
+                const auto dim = static_cast<std::uint64_t>(mesh->dim());
+                put(f, g + "/points", mesh->points(), {mesh->points().size() / 3, 3}, "m");
+                put(f, g + "/cells", mesh->cells(), {mesh->cells().size() / dim, dim}, "1");
+            }
     }
 }
 

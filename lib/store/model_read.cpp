@@ -3,6 +3,7 @@
 // shape and range, one step per group.
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "model/wall_mesh.hpp"
 #include "store/model_io.hpp"
 #include "store/model_io_detail.hpp"
 #include "store/schema.hpp"
@@ -307,10 +308,23 @@ model::Wall wall_at(const h5::File& f, const std::string& w, std::size_t k,
     if (x.shape == model::WallShape::plane && std::abs(nn - 1) > 1e-9)
         throw SchemaError(f.name(), w + "/normal",
                           fmt::format("wall {}: normal must be a unit vector", k));
-    if (x.shape != model::WallShape::plane && !(x.radius > 0))
+    if ((x.shape == model::WallShape::circle_inside ||
+         x.shape == model::WallShape::circle_outside) &&
+        !(x.radius > 0))
         throw SchemaError(f.name(), w + "/radius",
                           fmt::format("wall {}: radius must be positive", k));
     return x;
+}
+
+/// The surface of triangulated wall k (1.7.0), checked as pd-pack checks a scene's.
+std::shared_ptr<const model::WallMesh> read_wall_mesh(const h5::File& f, std::size_t k, int dim) {
+    const std::string g = fmt::format("{}/{}", path::wall_meshes, k);
+    auto points = get<double>(f, g + "/points", {0, 3});
+    auto cells = get<std::int32_t>(f, g + "/cells", {0, static_cast<std::uint64_t>(dim)});
+    const auto why = model::check_wall_mesh(dim, points, cells);
+    if (!why.empty())
+        throw SchemaError(f.name(), g, fmt::format("wall {}: the surface {}", k, why));
+    return std::make_shared<const model::WallMesh>(dim, std::move(points), std::move(cells));
 }
 
 /// Rigid walls (optional group).
@@ -326,7 +340,7 @@ void read_walls(const h5::File& f, model::Model& m) {
         auto vel = get<double>(f, w + "/velocity", {nw, 3});
         auto omega = get<double>(f, w + "/angular_velocity", {nw, 3});
         auto centre = get<double>(f, w + "/centre", {nw, 3});
-        require_range<std::uint8_t>(f, w + "/shape", shape, 0, 3);
+        require_range<std::uint8_t>(f, w + "/shape", shape, 0, 4);
         require_range<std::int32_t>(f, w + "/group", group, 0, max_group + 1);
         std::vector<std::int32_t> motion(nw, static_cast<std::int32_t>(model::TimeFn::linear));
         std::vector<double> mparams(4 * nw, 0.0);
@@ -375,6 +389,9 @@ void read_walls(const h5::File& f, model::Model& m) {
             if (!names.empty() && !names[k].empty())
                 m.walls.back().name = names[k];
         }
+        for (std::size_t k = 0; k < nw; ++k)
+            if (m.walls[k].shape == model::WallShape::mesh)
+                m.walls[k].mesh = read_wall_mesh(f, k, m.dimension);
     }
 }
 

@@ -30,6 +30,7 @@ inline constexpr const char* nodes = "/nodes";
 inline constexpr const char* bonds = "/bonds";
 inline constexpr const char* contact = "/contact";
 inline constexpr const char* walls = "/walls";
+inline constexpr const char* wall_meshes = "/walls/mesh"; // /walls/mesh/<k>/{points,cells}
 inline constexpr const char* loading = "/loading";
 inline constexpr const char* cracks = "/cracks";
 inline constexpr const char* solver = "/solver";

@@ -27,7 +27,8 @@ no_interpenetration, no_wall_body_penetration
     separately (no_wall_body_penetration).
 no_node_below_rigid_wall
     Signed distance of every node to every rigid wall of /walls that it has a contact law with
-    (plane: (y - p(t)).n(t); circle inside: R - |y - c(t)|; outside: |y - c(t)| - R; the wall
+    (plane: (y - p(t)).n(t); circle inside: R - |y - c(t)|; outside: |y - c(t)| - R; mesh: to
+    the closest face, edge or vertex, signed by its (pseudo-)normal; the wall
     pose follows velocity, angular_velocity and the motion function T(t) as pd-solve does). A
     contact holds a node at d ~ R_c; the check fails when d < -h/2 (the node is below the wall
     surface by more than half a mesh spacing, i.e. overlapped by more than R_c + h/2).
@@ -158,6 +159,9 @@ class Model:
             # its time function of t - start_time (pd-file 1.3)
             self.walls["start_time"] = (w["start_time"][()] if "start_time" in w
                                         else np.zeros(nw))
+            # triangulated walls (pd-file 1.7): their surface at the t = 0 pose
+            self.walls["mesh"] = {int(k): MeshSurface(g["points"][()], g["cells"][()])
+                                  for k, g in w["mesh"].items()} if "mesh" in w else {}
         ld = f["loading"]
         self.gravity = ld["gravity"][()]
         self.viscous = float(ld["viscous_damping"][()]) if "viscous_damping" in ld else 0.0
@@ -259,6 +263,83 @@ def rotate(v, theta):
     return v * math.cos(a) + np.cross(k, v) * math.sin(a) + k * np.dot(k, v) * (1 - math.cos(a))
 
 
+class MeshSurface:
+    """A triangulated (3D) or polyline (2D) wall: signed distance to the closest point, signed
+    by the face normal or, at an edge or a vertex, the angle-weighted pseudo-normal (as
+    lib/model/wall_mesh.cpp); a closest point on an open rim counts as outside."""
+
+    def __init__(self, points, cells):
+        self.p = np.asarray(points, dtype=float)
+        self.c = np.asarray(cells, dtype=np.int64)
+        P = self.p[self.c]
+        if self.c.shape[1] == 3:
+            n = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+        else:
+            e = P[:, 1] - P[:, 0]
+            n = np.stack([-e[:, 1], e[:, 0], np.zeros(len(e))], axis=1)
+        self.n = n / np.linalg.norm(n, axis=1)[:, None]
+        k = self.c.shape[1]
+        self.vn = np.zeros_like(self.p)
+        for j in range(k):  # vertex pseudo-normals (2D: the sum of the two segments')
+            if k == 3:
+                a, b = P[:, (j + 1) % 3] - P[:, j], P[:, (j + 2) % 3] - P[:, j]
+                cos = np.sum(a * b, 1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
+                wgt = np.arccos(np.clip(cos, -1, 1))
+            else:
+                wgt = np.ones(len(P))
+            np.add.at(self.vn, self.c[:, j], wgt[:, None] * self.n)
+        edges = {}
+        for t, cell in enumerate(self.c):
+            for j in range(k if k == 3 else 2):
+                key = tuple(sorted((cell[j], cell[(j + 1) % 3]))) if k == 3 else (cell[j],)
+                edges.setdefault(key, []).append(t)
+        self.en = {}
+        for key, ts in edges.items():
+            if len(ts) == 2:
+                self.en[key] = self.n[ts[0]] + self.n[ts[1]]
+            else:  # an open rim: its vertices have no pseudo-normal
+                self.vn[list(key)] = 0.0
+                self.en[key] = np.zeros(3)
+
+    def _closest(self, x):
+        """(distance, closest point, pseudo-normal) of one point."""
+        P = self.p[self.c]
+        best = (np.inf, None, None)
+        segs = [(0, 1)] if self.c.shape[1] == 2 else [(0, 1), (1, 2), (2, 0)]
+        if self.c.shape[1] == 3:  # the face interiors
+            h = np.sum((x - P[:, 0]) * self.n, 1)
+            q = x - h[:, None] * self.n
+            inside = np.ones(len(P), bool)
+            for a, b in segs:
+                inside &= np.sum(np.cross(P[:, b] - P[:, a], q - P[:, a]) * self.n, 1) >= 0
+            if inside.any():
+                i = np.flatnonzero(inside)[np.argmin(np.abs(h[inside]))]
+                best = (abs(h[i]), q[i], self.n[i])
+        for a, b in segs:  # the edges and vertices
+            A, B = P[:, a], P[:, b]
+            e = B - A
+            s = np.clip(np.sum((x - A) * e, 1) / np.sum(e * e, 1), 0, 1)
+            q = A + s[:, None] * e
+            d = np.linalg.norm(x - q, axis=1)
+            i = int(np.argmin(d))
+            if d[i] < best[0]:
+                if s[i] <= 0 or s[i] >= 1:
+                    pn = self.vn[self.c[i, a if s[i] <= 0 else b]]
+                elif self.c.shape[1] == 3:
+                    pn = self.en[tuple(sorted((self.c[i, a], self.c[i, b])))]
+                else:
+                    pn = self.n[i]
+                best = (d[i], q[i], pn)
+        return best
+
+    def signed_distance(self, X):
+        out = np.empty(len(X))
+        for j, x in enumerate(np.asarray(X, dtype=float)):
+            d, q, pn = self._closest(x)
+            out[j] = -d if np.dot(x - q, pn) < 0 else d
+        return out
+
+
 def wall_distance(model, w, y, t):
     W = model.walls
     tw = t - W["start_time"][w]  # at rest at its t = 0 pose before its start_time
@@ -269,6 +350,11 @@ def wall_distance(model, w, y, t):
     shape = int(W["shape"][w])
     if shape == 0:
         return (y - point) @ rotate(W["normal"][w], theta)
+    if shape == 3:  # in the wall's reference frame: X = c0 + R(-theta) (y - c(t))
+        rel = np.asarray(y, dtype=float) - centre
+        X = W["centre"][w] + np.array([rotate(r, -theta) for r in rel]) if np.any(theta) \
+            else W["centre"][w] + rel
+        return W["mesh"][w].signed_distance(X)
     r = np.linalg.norm(y - point, axis=1)
     return W["radius"][w] - r if shape == 1 else r - W["radius"][w]
 

@@ -116,5 +116,9 @@ void parse_solver(SceneBuild& s);
 /// A shape (a container, a named shape's geometry); relative surface_mesh files are resolved
 /// against `base` (the scene file's folder) (shapes.cpp).
 geometry::Shape parse_shape(const json& o, const std::string& w, int dim, const Folder& base);
+/// walls[k] of "type": "mesh" (key prefix `w`): its surface, from an STL file (3D, relative to
+/// `base`) or a polyline (2D), checked; sets wall.mesh and wall.point (wall_mesh.cpp).
+void parse_wall_mesh(const json& wj, const std::string& w, model::Wall& wall, int dim,
+                     const Folder& base);
 
 } // namespace pd::pipeline::scene

@@ -11,19 +11,26 @@ namespace pd::pipeline::scene {
 namespace {
 
 /// walls[k].
-model::Wall parse_wall(const json& wj, std::size_t k, const model::Model& m) {
+model::Wall parse_wall(const json& wj, std::size_t k, const model::Model& m, const Folder& base) {
     const std::string w = fmt::format("walls[{}]", k);
     check_keys(wj, w,
                {"name", "type", "point", "normal", "center", "radius", "velocity",
                 "angular_velocity", "rotation_center", "group", "time_function", "time_parameters",
-                "start_time", "enter", "gap"});
+                "start_time", "enter", "gap", "file", "polyline", "closed", "flip"});
     model::Wall wall;
     wall.name = text(wj, w, "name", fmt::format("wall_{}", k));
-    const auto type = text(wj, w, "type", "plane", {"plane", "circle_inside", "circle_outside"});
+    const auto type =
+        text(wj, w, "type", "plane", {"plane", "circle_inside", "circle_outside", "mesh"});
     wall.shape = type == "plane"           ? model::WallShape::plane
                  : type == "circle_inside" ? model::WallShape::circle_inside
+                 : type == "mesh"          ? model::WallShape::mesh
                                            : model::WallShape::circle_outside;
-    if (wall.shape == model::WallShape::plane) {
+    for (const char* key : {"file", "polyline", "closed", "flip"})
+        if (wj.contains(key) && wall.shape != model::WallShape::mesh)
+            throw ConfigError(w + "." + key, "only a wall of \"type\": \"mesh\" has it");
+    if (wall.shape == model::WallShape::mesh) {
+        parse_wall_mesh(wj, w, wall, m.dimension, base);
+    } else if (wall.shape == model::WallShape::plane) {
         wall.point = vec(wj, w, "point", m.dimension, {0, 0, 0}, true);
         wall.normal = vec(wj, w, "normal", m.dimension, {0, 0, 0}, true);
         const double nn = std::hypot(wall.normal[0], wall.normal[1], wall.normal[2]);
@@ -109,7 +116,7 @@ void parse_walls(SceneBuild& s) {
             throw ConfigError("walls", "expected a list of walls");
         for (std::size_t k = 0; k < root["walls"].size(); ++k) {
             const json& wj = root["walls"][k];
-            m.walls.push_back(parse_wall(wj, k, m));
+            m.walls.push_back(parse_wall(wj, k, m, s.base_dir));
         }
         // Walls without a group share one group after the particles'.
         for (auto& wall : m.walls)
