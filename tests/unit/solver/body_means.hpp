@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Test helper: mass-weighted means of nodal vector fields over one body.
+// Test helpers: mass-weighted means of nodal vector fields over one body; the mean wall
+// reaction of a body resting under gravity.
 #pragma once
 
 #include "model/model.hpp"
+#include "solver/solver.hpp"
 #include "solver/state.hpp"
 
 #include <array>
@@ -26,6 +28,28 @@ inline std::array<double, 3> com(const model::Model& m, const solver::State& s, 
     for (double& x : p)
         x /= mass;
     return p;
+}
+
+/// Solves 30 ms at 0.7x the automatic step with gravity g along -axis and returns the walls'
+/// reaction along +axis, time-averaged over the second half (the body rests), over the weight.
+inline double resting_reaction(solver::Solver& s, int axis, double g = 10) {
+    s.set_dt(0.7 * s.stable_dt().limit);
+    s.initialize();
+    double weight = 0;
+    for (std::size_t i = 0; i < s.state().n; ++i)
+        weight += g * s.state().rho[i] * s.state().vol[i];
+    const int steps = static_cast<int>(0.03 / s.dt());
+    double sum = 0;
+    int count = 0;
+    for (int k = 0; k < steps; ++k) {
+        s.advance();
+        if (k > steps / 2) {
+            sum += s.observe().wall_force[static_cast<std::size_t>(axis)];
+            ++count;
+        }
+        s.end_interval(); // observe() reports the mean over the steps since the last one
+    }
+    return -sum / count / weight;
 }
 
 } // namespace pd::test

@@ -6,6 +6,7 @@
 // as on the analytic plane of the same tilt; a rotating polyline wall keeps its candidate list
 // complete and the momentum and energy balances close; STL files (ASCII and binary) are read, and
 // bad surfaces refused with a message naming the key.
+#include "body_means.hpp"
 #include "core/errors.hpp"
 #include "core/log.hpp"
 #include "model/wall_mesh.hpp"
@@ -148,23 +149,7 @@ double resting_load(const std::string& wall, const std::string& law = "node") {
                    "loading": {"gravity": [0, -10]})"),
         "t", quiet);
     solver::Solver s(m);
-    s.set_dt(0.7 * s.stable_dt().limit);
-    s.initialize();
-    double weight = 0;
-    for (std::size_t i = 0; i < s.state().n; ++i)
-        weight += 10 * s.state().rho[i] * s.state().vol[i];
-    const int steps = static_cast<int>(0.03 / s.dt());
-    double sum = 0;
-    int count = 0;
-    for (int k = 0; k < steps; ++k) {
-        s.advance();
-        if (k > steps / 2) {
-            sum += s.observe().wall_force[1];
-            ++count;
-        }
-        s.end_interval();
-    }
-    return -sum / count / weight;
+    return test::resting_reaction(s, 1);
 }
 
 TEST(MeshWall, RestingDiscCarriesItsWeightOnATwoSegmentFloor) {
@@ -369,25 +354,9 @@ TEST(MeshWall, RestingSphereCarriesItsWeightOnATwoTriangleFloor) {
     const Floor3D f;
     auto m = f.build(R"({"type": "mesh", "file": "floor_binary.stl"})");
     solver::Solver s(m);
-    s.set_dt(0.7 * s.stable_dt().limit);
-    s.initialize();
-    double weight = 0;
-    for (std::size_t i = 0; i < s.state().n; ++i)
-        weight += 10 * s.state().rho[i] * s.state().vol[i];
-    const int steps = static_cast<int>(0.03 / s.dt());
-    double sum = 0;
-    int count = 0;
-    for (int k = 0; k < steps; ++k) {
-        s.advance();
-        if (k > steps / 2) {
-            sum += s.observe().wall_force[2];
-            ++count;
-        }
-        s.end_interval();
-    }
-    std::printf("[ sphere on STL floor ] reaction / weight %.6f (%zu nodes, %d steps)\n",
-                -sum / count / weight, s.state().n, steps);
-    EXPECT_NEAR(-sum / count / weight, 1.0, 0.01);
+    const double load = test::resting_reaction(s, 2);
+    std::printf("[ sphere on STL floor ] reaction / weight %.6f (%zu nodes)\n", load, s.state().n);
+    EXPECT_NEAR(load, 1.0, 0.01);
 }
 
 struct Balance {
