@@ -12,7 +12,8 @@ import numpy as np
 BIN = os.environ.get("PD_BIN_DIR", "build/bin")
 
 
-def test_a_cut_disc_is_two_fragments(tmp_path):
+def solved_cut_disc(tmp_path):
+    """A disc cut through by a pre-crack (two pieces) beside a whole one, solved 2 frames."""
     scene = {
         "dimension": 2,
         "materials": {"m": {"density": 1000, "youngs_modulus": 1e8, "fracture_energy": 10}},
@@ -27,6 +28,11 @@ def test_a_cut_disc_is_two_fragments(tmp_path):
     f = tmp_path / "cut.h5"
     subprocess.run([f"{BIN}/pd-pack", str(sp), "-o", str(f), "-q"], check=True)
     subprocess.run([f"{BIN}/pd-solve", str(f), "-q"], check=True)
+    return f
+
+
+def test_a_cut_disc_is_two_fragments(tmp_path):
+    f = solved_cut_disc(tmp_path)
     with h5py.File(f, "r") as h:
         off = h["bodies/node_offsets"][:]
         frag = h["particles/nodes/fragment/value"]
@@ -68,20 +74,7 @@ def test_fragments_csv_masses_ids_and_h5py_agree(tmp_path):
     sys.path.insert(0, os.path.join(os.environ.get("PD_SOURCE_DIR", "."), "workflows",
                                     "analysis"))
     import fragments
-    scene = {
-        "dimension": 2,
-        "materials": {"m": {"density": 1000, "youngs_modulus": 1e8, "fracture_energy": 10}},
-        "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
-        "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m"},
-                      {"radius": 1e-3, "center": [3e-3, 0], "material": "m"}],
-        "cracks": [{"from": [-2e-3, 1e-5], "to": [2e-3, 1e-5]}],
-        "solver": {"final_time": 2e-5, "output_interval": 1e-5},
-    }
-    sp = tmp_path / "cut.json"
-    sp.write_text(json.dumps(scene))
-    f = tmp_path / "cut.h5"
-    subprocess.run([f"{BIN}/pd-pack", str(sp), "-o", str(f), "-q"], check=True)
-    subprocess.run([f"{BIN}/pd-solve", str(f), "-q"], check=True)
+    f = solved_cut_disc(tmp_path)
     with h5py.File(f, "r") as h:
         off = h["bodies/node_offsets"][:]
         vol = h["nodes/volume"][:]
