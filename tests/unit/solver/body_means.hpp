@@ -30,6 +30,26 @@ inline std::array<double, 3> com(const model::Model& m, const solver::State& s, 
     return p;
 }
 
+/// A state at the reference configuration (at rest, density 1000, every node moving and an owned
+/// row), for tests of the contact searches without a Solver.
+inline solver::State state_of(const model::Model& m) {
+    solver::State s;
+    s.n = m.nodes.num();
+    s.x0 = m.nodes.x0;
+    s.x = s.x0;
+    s.u.assign(3 * s.n, 0.0);
+    s.v.assign(3 * s.n, 0.0);
+    s.f.assign(3 * s.n, 0.0);
+    s.vol = m.nodes.volume;
+    s.rho.assign(s.n, 1000.0);
+    s.body = m.nodes.body;
+    s.moving.assign(s.n, 1);
+    s.fixed_dof.assign(s.n, 0);
+    for (std::size_t i = 0; i < s.n; ++i)
+        s.rows.push_back(static_cast<solver::index_t>(i));
+    return s;
+}
+
 /// Solves 30 ms at 0.7x the automatic step with gravity g along -axis and returns the walls'
 /// reaction along +axis, time-averaged over the second half (the body rests), over the weight.
 inline double resting_reaction(solver::Solver& s, int axis, double g = 10) {

@@ -3,6 +3,7 @@
 // layer of width R_c + h that alone searched for contact before) and into a rigid wall give
 // exactly the node pairs a brute-force O(n^2) check finds, at the build and after moves that stay
 // inside the skin.
+#include "body_means.hpp"
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
 #include "solver/contact.hpp"
@@ -19,24 +20,6 @@ namespace {
 using namespace pd;
 
 const Log quiet("test", 0, Verbosity::quiet);
-
-solver::State state_of(const model::Model& m) {
-    solver::State s;
-    s.n = m.nodes.num();
-    s.x0 = m.nodes.x0;
-    s.x = s.x0;
-    s.u.assign(3 * s.n, 0.0);
-    s.v.assign(3 * s.n, 0.0);
-    s.f.assign(3 * s.n, 0.0);
-    s.vol = m.nodes.volume;
-    s.rho.assign(s.n, 1000.0);
-    s.body = m.nodes.body;
-    s.moving.assign(s.n, 1);
-    s.fixed_dof.assign(s.n, 0);
-    for (std::size_t i = 0; i < s.n; ++i)
-        s.rows.push_back(static_cast<solver::index_t>(i));
-    return s;
-}
 
 /// Moves body b rigidly: rotation by `angle` about its centre of nodes, then shift (dx, dy).
 void move_body(const model::Model& m, solver::State& s, std::size_t b, double angle, double dx,
@@ -88,7 +71,7 @@ model::Model two_discs() {
 TEST(ContactSearch, DeepOverlapMissesNoPair) {
     const auto m = two_discs();
     const double rc = m.contact.front().radius;
-    auto s = state_of(m);
+    auto s = test::state_of(m);
     // Disc 1 pushed 0.9 mm deep into disc 0 (its centre 0.9 mm from disc 0's, far past the
     // surface layer of width R_c + h = 0.195 mm), and turned.
     move_body(m, s, 1, 0.21, -2.1e-3, -0.3e-3);
@@ -128,7 +111,7 @@ TEST(ContactSearch, GrainsApartCostNoCandidates) {
     // near the gap have candidates (the inside of each disc is skipped cell by cell).
     const auto m = two_discs();
     const double rc = m.contact.front().radius;
-    auto s = state_of(m);
+    auto s = test::state_of(m);
     solver::Domain dom(s.n);
     solver::ContactList cl(m, rc);
     cl.update(s, dom);
@@ -151,7 +134,7 @@ TEST(WallSearch, GrainPressedDeepIntoAWallMissesNoNode) {
       "contact": {"law": "node"}, "solver": {"final_time": 1}})",
                                          "t", quiet);
     const double rc = m.contact.front().radius;
-    auto s = state_of(m);
+    auto s = test::state_of(m);
     solver::WallContact wc(m, rc);
     ASSERT_TRUE(wc.active());
     for (int k = 0; k < 60; ++k) {
@@ -232,7 +215,7 @@ TEST(WallSearch, RotatingWallMeetsAGrainFarFromItsCentre) {
       "contact": {"law": "node"}, "solver": {"final_time": 1}})",
                                          "t", quiet);
     const double rc = m.contact.front().radius;
-    auto s = state_of(m);
+    auto s = test::state_of(m);
     solver::WallContact wc(m, rc);
     std::int64_t touched = 0;
     for (int k = 0; k <= 100; ++k) {
@@ -284,7 +267,7 @@ TEST(SurfaceContact, TouchingNodesAreTheNodesInsideTheOtherBoundary) {
                                          "t", quiet);
     ASSERT_EQ(m.contact.front().law, model::ContactLaw::surface);
     const double h = m.bodies.mesh_size[0];
-    auto s = state_of(m);
+    auto s = test::state_of(m);
     const auto F = solver::boundary_facets(m, {1, 1});
     ASSERT_GT(F.num(), 50u);
     solver::Domain dom(s.n);
@@ -295,7 +278,7 @@ TEST(SurfaceContact, TouchingNodesAreTheNodesInsideTheOtherBoundary) {
     for (int k = 0; k <= 60; ++k) {
         const double overlap = 0.4 * h * std::sin(M_PI * k / 60.0);
         const double angle = 0.01 * k;
-        auto t = state_of(m);
+        auto t = test::state_of(m);
         move_body(m, t, 1, angle, 0, 0); // spin in place, then place its centre
         double c[2] = {0, 0};
         const auto n1 = static_cast<double>(m.bodies.end(1) - m.bodies.begin(1));

@@ -233,20 +233,7 @@ TEST(MeshWall, RotatingPolylineMeetsAGrainFarFromItsCentre) {
       "contact": {"law": "node"}, "solver": {"final_time": 1}})",
                                          "t", quiet);
     const double rc = m.contact.front().radius;
-    solver::State s;
-    s.n = m.nodes.num();
-    s.x0 = m.nodes.x0;
-    s.x = s.x0;
-    s.u.assign(3 * s.n, 0.0);
-    s.v.assign(3 * s.n, 0.0);
-    s.f.assign(3 * s.n, 0.0);
-    s.vol = m.nodes.volume;
-    s.rho.assign(s.n, 1000.0);
-    s.body = m.nodes.body;
-    s.moving.assign(s.n, 1);
-    s.fixed_dof.assign(s.n, 0);
-    for (std::size_t i = 0; i < s.n; ++i)
-        s.rows.push_back(static_cast<solver::index_t>(i));
+    auto s = test::state_of(m);
     solver::WallContact wc(m, rc);
     std::int64_t touched = 0;
     for (int k = 0; k <= 100; ++k) {
