@@ -117,6 +117,11 @@ struct ContactPair {
     double restitution = 1; ///< eps in (0, 1]; 1 = no damping
     double friction = 0;    ///< Coulomb mu
     ContactLaw law = ContactLaw::node;
+    /// PeriDEM 0.2's particle damping (`--parity peridem` imports, solver/terms/
+    /// approach_damping.cpp), 2D node law only: A = beta_n sqrt(kappa), kappa the harmonic mean of
+    /// the deck's bulk moduli; grains approaching within R_i + R_j + 1.01 R_c get the damping
+    /// coefficient A sqrt(R_c m_eq). 0 = off, kg1/2 m-1/2 s-1 (2D, per unit thickness).
+    double approach = 0;
     /// The force acts from this distance on: R_c (node law), 0 (surface law: at contact).
     double offset() const { return law == ContactLaw::surface ? 0.0 : radius; }
 };

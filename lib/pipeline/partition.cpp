@@ -25,7 +25,7 @@ store::Partition make_partition(const model::Model& m, int num_parts, const std:
     // when grain-level damping needs whole grains), else nodes (a plate, a few large grains).
     bool damped = false;
     for (const auto& c : m.contact)
-        damped = damped || (c.restitution < 1 && c.stiffness > 0);
+        damped = damped || ((c.restitution < 1 || c.approach > 0) && c.stiffness > 0);
     const std::size_t enough = (damped ? 1 : 4) * static_cast<std::size_t>(num_parts);
     const std::string by = by_in == "grain"           ? "body"
                            : by_in != "auto"          ? by_in

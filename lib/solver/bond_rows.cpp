@@ -47,9 +47,9 @@ double bond_length(const std::vector<double>& x0, std::size_t i, std::size_t j) 
         r2 += std::pow(x0[3 * j + d] - x0[3 * i + d], 2);
     return std::sqrt(r2);
 }
-/// Grain-level damping needs whole grains per rank.
+/// Grain-level damping (and PeriDEM's particle damping) needs whole grains per rank.
 void check_whole_grains(const Forces& f) {
-    if (!f.damping || !f.dom->distributed())
+    if (!(f.damping || f.approach) || !f.dom->distributed())
         return;
     for (std::size_t b = 0; b < f.m.bodies.num(); ++b) {
         const auto i0 = f.m.bodies.begin(b);
@@ -57,7 +57,8 @@ void check_whole_grains(const Forces& f) {
             if (f.dom->owner(i) != f.dom->owner(i0))
                 throw InputError(fmt::format(
                     "body {} is split between MPI ranks {} and {}, but grain-level damping "
-                    "(restitution < 1) needs whole grains per rank: partition by grain "
+                    "(restitution < 1, or PeriDEM's approach damping) needs whole grains per "
+                    "rank: partition by grain "
                     "(pd-partition --by grain)",
                     b, f.dom->owner(i0), f.dom->owner(i)));
     }

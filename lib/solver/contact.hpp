@@ -99,6 +99,14 @@ class ContactList {
     bool any_friction() const { return any_friction_; }
     std::int64_t rebuilds() const { return rebuilds_; }
     std::size_t num_candidates() const { return neighbor_.size(); }
+    /// The candidates of owned node i (every node within R_c of it is among them after update()).
+    std::pair<const index_t*, const index_t*> candidates(index_t i) const {
+        const auto ii = static_cast<std::size_t>(i);
+        if (ii + 1 >= offsets_.size())
+            return {nullptr, nullptr};
+        const index_t* p = neighbor_.data();
+        return {p + offsets_[ii], p + offsets_[ii + 1]};
+    }
 
   private:
     void rebuild(const State& s);

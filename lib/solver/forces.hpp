@@ -60,6 +60,7 @@ struct Forces {
     bool has_prescribed = false;                 ///< some displacement condition
     // Contact damping and friction, and the touching-pair records they read.
     bool damping = false;  ///< some contact law has restitution < 1
+    bool approach = false; ///< some contact law has PeriDEM's particle damping (approach > 0)
     bool friction = false; ///< some contact law has mu > 0
     bool records = false;  ///< damping or friction need the touching-pair records
     std::vector<BodyPairForce> pair_records;

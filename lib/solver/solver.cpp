@@ -83,6 +83,7 @@ void Solver::init_contact() {
     f_.wall_load.moment.assign(3 * m.walls.size(), 0.0);
     for (const auto& p : m.contact) {
         f_.damping = f_.damping || (p.restitution < 1 && p.stiffness > 0);
+        f_.approach = f_.approach || (p.approach > 0 && p.stiffness > 0);
         f_.friction = f_.friction || (p.friction > 0 && p.stiffness > 0);
     }
     f_.records = f_.damping || f_.friction;

@@ -118,9 +118,12 @@ void write_contact(h5::File& f, const model::Model& m) {
     const std::string c = path::contact;
     const std::uint64_t np = m.contact.size();
     std::vector<std::int32_t> ga, gb;
-    std::vector<double> rad, kn, eps, mu;
+    std::vector<double> rad, kn, eps, mu, appr;
     std::vector<std::uint8_t> law;
+    bool approach = false;
     for (const auto& p : m.contact) {
+        appr.push_back(p.approach);
+        approach = approach || p.approach > 0;
         law.push_back(static_cast<std::uint8_t>(p.law));
         ga.push_back(p.group_a);
         gb.push_back(p.group_b);
@@ -137,6 +140,8 @@ void write_contact(h5::File& f, const model::Model& m) {
     put(f, c + "/restitution", eps, {np}, "1");
     put(f, c + "/friction", mu, {np}, "1");
     put(f, c + "/law", law, {np}, "1");
+    if (approach) // pd-file 1.8.0, written only when some pair has it
+        put(f, c + "/approach_damping", appr, {np}, "kg1/2 m-1/2 s-1");
 }
 
 /// Rigid walls (optional group).

@@ -259,6 +259,9 @@ void read_contact(const h5::File& f, model::Model& m) {
     auto law = f.exists(c + "/law") ? get<std::uint8_t>(f, c + "/law", {np})
                                     : std::vector<std::uint8_t>(np, 0);
     require_range<std::uint8_t>(f, c + "/law", law, 0, 2);
+    // /contact/approach_damping (pd-file 1.8.0): absent = 0 (no PeriDEM particle damping).
+    auto appr = f.exists(c + "/approach_damping") ? get<double>(f, c + "/approach_damping", {np})
+                                                  : std::vector<double>(np, 0.0);
     require_range<std::int32_t>(f, c + "/group_a", ga, 0, max_group + 1);
     require_range<std::int32_t>(f, c + "/group_b", gb, 0, max_group + 1);
     for (std::size_t k = 0; k < np; ++k) {
@@ -274,8 +277,12 @@ void read_contact(const h5::File& f, model::Model& m) {
             bad("restitution", eps[k], "must be in [0, 1]");
         if (!(mu[k] >= 0))
             bad("friction", mu[k], "must be >= 0");
+        if (!(appr[k] >= 0 && appr[k] < 1e30))
+            bad("approach_damping", appr[k], "must be in [0, 1e30)");
+        if (appr[k] > 0 && (law[k] != 0 || m.dimension != 2))
+            bad("approach_damping", appr[k], "PeriDEM's particle damping is for the 2D node law");
         m.contact.push_back(
-            {ga[k], gb[k], rad[k], kn[k], eps[k], mu[k], model::ContactLaw{law[k]}});
+            {ga[k], gb[k], rad[k], kn[k], eps[k], mu[k], model::ContactLaw{law[k]}, appr[k]});
     }
 }
 

@@ -16,7 +16,7 @@ inline constexpr const char* schema_name = "pd-file";
 inline constexpr int schema_major = 1;
 inline constexpr int schema_minor = 2;
 inline constexpr int schema_patch = 0;
-inline constexpr const char* schema_version = "1.7.0";
+inline constexpr const char* schema_version = "1.8.0";
 
 namespace path {
 // root attributes: schema, schema_version, units, dimension, planar, thickness, title

@@ -3,6 +3,7 @@
 #include "pipeline/peridem/import.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -10,8 +11,25 @@ namespace pd::pipeline::peridem {
 
 namespace {
 
+/// PeriDEM 0.2's particle damping of zones (i, j) (--parity peridem): beta_n = Beta_n_Factor
+/// (-2 ln eps / sqrt(pi^2 + ln^2 eps)) and kappa the harmonic mean (a b / (a + b)) of the deck's
+/// bulk moduli, as PeriDEM's DEMModel::setupContact; pdgrain's A = beta_n sqrt(kappa).
+double approach_damping(const YAML::Node& n, const std::string& w, const Import& im,
+                        std::pair<int, int> ij) {
+    const double eps = num_or(n, w, "Epsilon", 1), log_e = std::log(eps);
+    const double beta =
+        num_or(n, w, "Beta_n_Factor", 1) * (-2 * log_e / std::sqrt(M_PI * M_PI + log_e * log_e));
+    const double ki = im.zone_bulk.at(static_cast<std::size_t>(ij.first - 1));
+    const double kj = im.zone_bulk.at(static_cast<std::size_t>(ij.second - 1));
+    if (!(eps > 0 && eps <= 1))
+        throw ConfigError(w + ".Epsilon", "must be in (0, 1]");
+    return beta > 1e-8 ? beta * std::sqrt(ki * kj / (ki + kj)) : 0.0;
+}
+
 /// One Contact.Zone_<i><j> block -> a scene contact law.
-json contact_law(const YAML::Node& n, const std::string& w, const Log& log, bool& beta_warned) {
+json contact_law(const YAML::Node& n, const std::string& w, const Import& im,
+                 std::pair<int, int> ij, bool& beta_warned) {
+    const Log& log = im.log;
     json law = json::object();
     if (child(n, "Contact_Radius"))
         law["radius"] = num_or(n, w, "Contact_Radius", 0);
@@ -31,7 +49,17 @@ json contact_law(const YAML::Node& n, const std::string& w, const Log& log, bool
         if (!child(n, "Epsilon"))
             throw ConfigError(w + ".Epsilon", "required when Damping_On is true");
         law["restitution"] = num_or(n, w, "Epsilon", 1);
-        if (!beta_warned && num_or(n, w, "Beta_n_Factor", 1) != 1) {
+        if (im.parity) {
+            // PeriDEM damps grains on approach (solver/terms/approach_damping.cpp), not on
+            // unloading as pdgrain's restitution does.
+            law["restitution"] = 1.0;
+            law["approach_damping"] = approach_damping(n, w, im, ij);
+            if (!beta_warned)
+                log.info("{}: --parity peridem: damping as PeriDEM's (on approach, from "
+                         "1.01 R_c, on the grains' centre nodes), not pdgrain's restitution",
+                         w);
+            beta_warned = true;
+        } else if (!beta_warned && num_or(n, w, "Beta_n_Factor", 1) != 1) {
             log.info("{}.Beta_n_Factor: not used (pdgrain's damping achieves the "
                      "restitution Epsilon directly)",
                      w);
@@ -89,7 +117,7 @@ void read_contact(Import& im) {
                         throw ConfigError(w + ".Copy_Contact_Data", "no such contact pair");
                     n.reset(f->second);
                 }
-                table[ij] = contact_law(n, w, log, beta_warned);
+                table[ij] = contact_law(n, w, im, ij, beta_warned);
             }
         }
         std::set<int> used;

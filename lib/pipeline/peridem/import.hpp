@@ -56,6 +56,7 @@ struct Import {
     std::vector<Zone> zones;
     // Material
     json materials = json::object();
+    std::vector<double> zone_bulk; ///< the deck's K per zone (PeriDEM's contact kappa), Pa
     bool plane_strain = false, lps_parity = false;
     json discretization = json::object();
     // Mesh

@@ -98,6 +98,8 @@ struct MaterialReader {
         if (!(rho > 0))
             throw ConfigError(w + ".Density", "missing or not positive (required)");
         const auto [E, K, G, nu, has_nu] = elastic_constants(mn, w, law, log);
+        im.zone_bulk.resize(static_cast<std::size_t>(im.nz), 0.0);
+        im.zone_bulk[static_cast<std::size_t>(k - 1)] = K > 0 ? K : E / (3 * (1 - 2 * nu));
         if (auto g = child(mn, "Gc"); g && !(num(g, w + ".Gc") > 0))
             throw ConfigError(w + ".Gc", "must be > 0 (J/m2); leave it out for an unbreakable "
                                          "material");

@@ -12,8 +12,8 @@ namespace pd::pipeline::scene {
 namespace {
 
 const std::vector<std::string> law_keys = {
-    "radius_factor",    "radius",      "radius_mesh_factor", "stiffness",
-    "stiffness_factor", "restitution", "friction",           "law"};
+    "radius_factor", "radius", "radius_mesh_factor", "stiffness", "stiffness_factor", "restitution",
+    "friction",      "law",    "approach_damping"};
 
 /// The default surface law's stiffness c = surface_beta kappa / h^2 (N m-5), kappa the pair's
 /// harmonic bulk modulus, h the coarser nominal mesh size of the two groups. A node of density
@@ -112,6 +112,21 @@ struct ContactLaws {
         return ka > 0 ? 2 * ka * kb / (ka + kb) : 0;
     }
 
+    /// restitution and friction of any law: given, else (fresh) the defaults, else inherited.
+    static void restitution_friction(const json& o, const std::string& w, model::ContactPair& p,
+                                     bool fresh) {
+        if (o.contains("restitution") || fresh) {
+            p.restitution = number(o, w, "restitution", fresh ? 1.0 : p.restitution);
+            if (!(p.restitution > 0 && p.restitution <= 1))
+                throw ConfigError(w + ".restitution", "must be in (0, 1]");
+        }
+        if (o.contains("friction") || fresh) {
+            p.friction = number(o, w, "friction", fresh ? 0.0 : p.friction);
+            if (p.friction < 0)
+                throw ConfigError(w + ".friction", "must be >= 0");
+        }
+    }
+
     /// The node-to-surface law: c = surface_beta kappa / h^2 x stiffness_factor, or a given
     /// stiffness (N m-5); restitution and friction as for any law.
     model::ContactPair surface_law(const json& o, const std::string& w, model::ContactPair p,
@@ -121,16 +136,11 @@ struct ContactLaws {
                 throw ConfigError(w + "." + k, "the surface law has no contact radius (it acts "
                                                "from contact on); give law \"node\" for one");
         p.radius = pair_mesh_size(p.group_a, p.group_b);
-        if (o.contains("restitution") || !inherit) {
-            p.restitution = number(o, w, "restitution", inherit ? p.restitution : 1.0);
-            if (!(p.restitution > 0 && p.restitution <= 1))
-                throw ConfigError(w + ".restitution", "must be in (0, 1]");
-        }
-        if (o.contains("friction") || !inherit) {
-            p.friction = number(o, w, "friction", inherit ? p.friction : 0.0);
-            if (p.friction < 0)
-                throw ConfigError(w + ".friction", "must be >= 0");
-        }
+        if (o.contains("approach_damping"))
+            throw ConfigError(w + ".approach_damping",
+                              "PeriDEM's particle damping belongs to the node law (law \"node\")");
+        p.approach = 0;
+        restitution_friction(o, w, p, !inherit);
         if (o.contains("stiffness") && !o["stiffness"].is_string()) {
             p.stiffness = number(o, w, "stiffness", 0); // N m-5; 0: this pair does not interact
             if (p.stiffness < 0)
@@ -200,15 +210,15 @@ struct ContactLaws {
             p.radius = positive(o, w, "radius_mesh_factor", 0) * h_pair;
         } else if (o.contains("radius_factor") || !base)
             p.radius = positive(o, w, "radius_factor", 0.95) * hmin;
-        if (o.contains("restitution") || !base) {
-            p.restitution = number(o, w, "restitution", 1.0);
-            if (!(p.restitution > 0 && p.restitution <= 1))
-                throw ConfigError(w + ".restitution", "must be in (0, 1]");
-        }
-        if (o.contains("friction") || !base) {
-            p.friction = number(o, w, "friction", 0.0);
-            if (p.friction < 0)
-                throw ConfigError(w + ".friction", "must be >= 0");
+        restitution_friction(o, w, p, !base);
+        if (o.contains("approach_damping") || !base) {
+            p.approach = number(o, w, "approach_damping", 0.0);
+            if (!(p.approach >= 0 && p.approach < 1e30))
+                throw ConfigError(w + ".approach_damping", "must be in [0, 1e30)");
+            if (p.approach > 0 && m.dimension != 2)
+                throw ConfigError(w + ".approach_damping",
+                                  "PeriDEM's particle damping is 2D only (its grains weigh "
+                                  "rho pi R^2)");
         }
         if (o.contains("stiffness") && !o["stiffness"].is_string()) {
             p.stiffness = number(o, w, "stiffness", 0); // 0: this pair does not interact
