@@ -3,7 +3,9 @@
 grains while they approach, from a centre distance R_i + R_j + 1.01 R_c on, with the coefficient
 beta_n sqrt(kappa R_c m_eq) on their centre nodes' velocities (solver/terms/approach_damping.cpp);
 pdgrain's own damping acts on unloading. The default import keeps pdgrain's restitution."""
+import json
 import math
+import re
 
 import h5py
 import numpy as np
@@ -99,3 +101,39 @@ def test_refused_outside_the_2d_node_law(pd_pack, tmp_path, sets, message):
     assert r.returncode == 2, r.stderr
     assert "approach_damping" in r.stderr and message in r.stderr
     assert not out.exists()
+
+
+def test_grain_on_a_peridem_wall_is_damped_only_in_contact(pd_pack, tmp_path):
+    """A disc falls at 0.5 m/s onto a fixed meshed floor marked "wall" (PeriDEM's wall zone):
+    the wall's nodes damp it only once they are within R_c of its nodes (no pre-contact window as
+    between two grains), the energy it takes is counted, and the disc rebounds slower."""
+    scene = json.loads(re.sub(r"(?m)^\s*//.*$", "", (
+        REPO / "examples" / "two_discs_wall" / "scene_meshed.json").read_text()))
+    scene["particles"] = [
+        {"radius": 1e-3, "center": [0, 1.3e-3], "material": "m1", "velocity": [0, -0.5]},
+        {"shape": "floor", "center": [0, 0], "material": "wall", "group": 1, "fixed": True,
+         "wall": True}]
+    scene["contact"] = {"radius_factor": 0.95, "stiffness": "auto", "approach_damping": 22030.0}
+    scene["solver"].update({"final_time": 1.2e-3, "observe_every": 1})
+    (tmp_path / "s.json").write_text(json.dumps(scene))
+    h5 = tmp_path / "s.h5"
+    for cmd in ([pd_pack, tmp_path / "s.json", "-o", h5, "-q"],
+                [pd_pack.parent / "pd-solve", h5, "-q"]):
+        r = run(*cmd)
+        assert r.returncode == 0, r.stderr
+    with h5py.File(h5, "r") as f:
+        assert list(f["bodies/kind"][()]) == [0, 1]
+        o = f["observables"]
+        off = f["bodies/node_offsets"][()]
+        mass = 1200 * f["nodes/volume"][off[0]:off[1]].sum()
+        vy = o["momentum/value"][()][:, 1] / mass
+        on = np.nonzero(o["contact_count/value"][()] > 0)[0]
+        dissipated = o["damping_dissipation/value"][()]
+        balance = sum(o[k + "/value"][()] for k in (
+            "kinetic_energy", "elastic_energy", "contact_energy", "damping_dissipation"))
+    assert len(on) > 10 and on[-1] < len(vy) - 2  # one contact, over before the end
+    assert np.all(dissipated[:on[0]] == 0) and dissipated[on[-1]] > 0
+    impact, rebound = -vy[on[0] - 1], vy[on[-1] + 1]
+    assert impact == pytest.approx(0.5, rel=1e-9)
+    assert 0.45 < rebound / impact < 0.95  # measured 0.571
+    assert abs(balance[-1] - balance[0]) < 1e-2 * dissipated[-1]

@@ -80,6 +80,9 @@ std::string scene_text(const Import& im, const std::string& yaml_path) {
             j["velocity"] = vec(p.v);
         if (p.fixed)
             j["fixed"] = true;
+        if (std::any_of(im.zones.begin(), im.zones.end(),
+                        [&](const Zone& z) { return z.k == p.zone && z.wall; }))
+            j["wall"] = true; // PeriDEM's particle damping reaches grains through its nodes
         plist.push_back(j);
     }
     scene["particles"] = plist;

@@ -36,6 +36,7 @@ struct Instance {
     std::int32_t group = 0;
     std::array<double, 3> velocity{0, 0, 0};
     bool fixed = false;
+    bool wall = false; ///< a PeriDEM wall (BodyKind::wall; contact.approach_damping)
     std::string where; ///< scene key, for messages
 };
 

@@ -39,7 +39,7 @@ class ParticleParser {
         if (!p.contains("generate")) {
             check_keys(p, w,
                        {"shape", "radius", "center", "material", "velocity", "fixed", "group",
-                        "orientation"});
+                        "orientation", "wall"});
             Instance d;
             d.shape = text(p, w, "shape", "disc");
             d.radius = p.contains("radius") ? positive(p, w, "radius", 0) : 0.0;
@@ -52,6 +52,7 @@ class ParticleParser {
                                                   "precision",
                                                   c));
             d.orientation = number(p, w, "orientation", 0);
+            d.wall = boolean(p, w, "wall", false);
             common(p, w, d);
             shape_named(d.shape, w, d.radius);
             inst.push_back(d);

@@ -94,7 +94,7 @@ void place_grains(SceneBuild& s) {
         B.material.push_back(d.material);
         B.group.push_back(d.group);
         B.ref_mesh.push_back(r.index);
-        B.kind.push_back(model::BodyKind::particle);
+        B.kind.push_back(d.wall ? model::BodyKind::wall : model::BodyKind::particle);
         B.fixed.push_back(d.fixed ? 1 : 0);
         B.center.insert(B.center.end(), d.center.begin(), d.center.end());
         B.bounding_radius.push_back(r.bound * s);
