@@ -137,3 +137,46 @@ def test_grain_on_a_peridem_wall_is_damped_only_in_contact(pd_pack, tmp_path):
     assert impact == pytest.approx(0.5, rel=1e-9)
     assert 0.45 < rebound / impact < 0.95  # measured 0.571
     assert abs(balance[-1] - balance[0]) < 1e-2 * dissipated[-1]
+
+
+def test_every_shared_deck_runs_damped_under_parity(pd_pack, shared_dir, tmp_path):
+    """Every shared PeriDEM deck, with damping switched on wherever it gives an Epsilon, imports
+    with --parity peridem and (but the one-step configuration deck) runs 300 steps at its own dt (exit 0); compression_small_set (15
+    grains in a meshed container under a lid, walls of kind 1) runs 10 ms, damped, to the same
+    frames at 1 and 2 ranks (whole grains per rank, as the damping needs)."""
+    solve = pd_pack.parent / "pd-solve"
+    names = sorted(p.parent.name for p in (shared_dir / "data" / "peridem").glob("*/input_0.yaml"))
+    assert {"compression_small_set", "twop_circ"} <= set(names)
+    for case in names:
+        d = tmp_path / case
+        d.mkdir()
+        for p in (shared_dir / "data" / "peridem" / case).iterdir():
+            (d / p.name).write_bytes(p.read_bytes())
+        deck = d / "input_0.yaml"
+        deck.write_text(deck.read_text().replace("Damping_On: false", "Damping_On: true"))
+        h5 = d / "p.h5"
+        r = run(pd_pack, "--from-peridem", deck, "--parity", "peridem", "-o", h5, "-q")
+        assert r.returncode == 0, f"{case}: {r.stderr}"
+        if "Time_Steps: 1\n" in deck.read_text():
+            continue  # compressive_n500's initial-configuration deck: one step of 0.06 s
+        copies = [h5]
+        if case == "compression_small_set":
+            with h5py.File(h5, "r") as f:
+                assert f["contact/approach_damping"][0] > 0
+                assert list(f["bodies/kind"][()]) == [0] * 15 + [1, 1]
+            copies.append(d / "p2.h5")
+            copies[1].write_bytes(h5.read_bytes())
+            assert run(pd_pack.parent / "pd-partition", copies[1], "-n", "2", "-q").returncode == 0
+        for i, c in enumerate(copies):
+            steps = 4000 if len(copies) == 2 else 300  # 10 ms: grains on the container
+            cmd = [solve, c, "-q", "--steps", steps, "--force-dt"]
+            if i:
+                cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", 2] + cmd
+            r = run(*cmd)
+            assert r.returncode == 0, f"{case}: {r.stderr}"
+        if len(copies) == 2:
+            r = run("/usr/bin/python3", REPO / "workflows" / "analysis" / "compare_frames.py",
+                    *copies)
+            assert r.returncode == 0 and "identical" in r.stdout, r.stdout + r.stderr
+            with h5py.File(h5, "r") as f:
+                assert f["observables/damping_dissipation/value"][-1] > 0
