@@ -90,11 +90,13 @@ def smooth(t, y, window):
     return c
 
 
-def check(pen_mm, s_kpa, bounds, broken):
+def check(pen_mm, s_kpa, bounds, broken, measured):
+    """True when every bound holds; each checked number also goes into `measured` (--json)."""
     ok = True
 
-    def report(name, value, lo, hi):
+    def report(name, value, lo, hi, key):
         nonlocal ok
+        measured[key] = value
         good = lo <= value <= hi
         ok &= good
         print("  %-28s %10.3f  in [%g, %g]  %s" % (name, value, lo, hi, "ok" if good else "FAIL"))
@@ -103,7 +105,7 @@ def check(pen_mm, s_kpa, bounds, broken):
     above = np.nonzero(s_kpa > thr)[0]
     onset = pen_mm[above[0]] if len(above) else np.inf
     if "onset_mm" in bounds:
-        report("onset (mm, > %g kPa)" % thr, onset, *bounds["onset_mm"])
+        report("onset (mm, > %g kPa)" % thr, onset, *bounds["onset_mm"], key="onset_mm")
     if bounds.get("after_onset", False):
         # the other bounds count penetration from the onset: where the settled pack's top lies
         # is a property of stage 1 (how the grains settled), the curve after it of the
@@ -119,7 +121,8 @@ def check(pen_mm, s_kpa, bounds, broken):
             print("  stress at %.2f mm: the run ends at %.2f mm  FAIL" % (p, pen_mm[-1]))
             ok = False
             continue
-        report("stress at %.2f mm (kPa)" % p, float(np.interp(p, pen_mm, s_kpa)), lo, hi)
+        report("stress at %.2f mm (kPa)" % p, float(np.interp(p, pen_mm, s_kpa)), lo, hi,
+               key="stress_at_%d_um" % round(p * 1000))
     if "plateau_mm" in bounds:
         a, b = bounds["plateau_mm"]
         sel = (pen_mm >= a) & (pen_mm <= b)
@@ -128,13 +131,15 @@ def check(pen_mm, s_kpa, bounds, broken):
             ok = False
         else:
             mean = float(s_kpa[sel].mean())
-            report("plateau mean (kPa)", mean, *bounds["plateau_kPa"])
+            report("plateau mean (kPa)", mean, *bounds["plateau_kPa"], key="plateau_kPa")
             if "plateau_spread" in bounds:
                 spread = float((s_kpa[sel].max() - s_kpa[sel].min()) / mean)
-                report("plateau (max-min)/mean", spread, 0.0, bounds["plateau_spread"])
+                report("plateau (max-min)/mean", spread, 0.0, bounds["plateau_spread"],
+                       key="plateau_spread")
             if "plateau_max_slope" in bounds:
                 slope = float(np.polyfit(pen_mm[sel], s_kpa[sel], 1)[0])
-                report("plateau: |slope| (kPa/mm)", abs(slope), 0.0, bounds["plateau_max_slope"])
+                report("plateau: |slope| (kPa/mm)", abs(slope), 0.0, bounds["plateau_max_slope"],
+                       key="plateau_slope")
     if "rise_to_mm" in bounds and np.isfinite(onset):
         # the rise as a trend, robust to the force-chain noise: the mean stress over the last
         # quarter of [onset, end] over that of its first quarter, and the least-squares slope
@@ -146,11 +151,14 @@ def check(pen_mm, s_kpa, bounds, broken):
             return False
         q = (p[-1] - p[0]) / 4
         ratio = float(y[p >= p[-1] - q].mean() / max(y[p <= p[0] + q].mean(), 1e-30))
-        report("rise: last / first quarter", ratio, bounds.get("rise_min_ratio", 2.0), np.inf)
+        report("rise: last / first quarter", ratio, bounds.get("rise_min_ratio", 2.0), np.inf,
+               key="rise_ratio")
         slope = float(np.polyfit(p, y, 1)[0])
-        report("rise: slope (kPa/mm)", slope, bounds.get("rise_min_slope", 0.0), np.inf)
+        report("rise: slope (kPa/mm)", slope, bounds.get("rise_min_slope", 0.0), np.inf,
+               key="rise_slope")
     if "broken_bonds_min" in bounds:
-        report("broken bonds at the end", float(broken), bounds["broken_bonds_min"], np.inf)
+        report("broken bonds at the end", float(broken), bounds["broken_bonds_min"], np.inf,
+               key="broken_bonds")
     return ok
 
 
@@ -162,6 +170,7 @@ def main():
     ap.add_argument("--length", type=float, default=0.06894, help="loaded plate length (m)")
     ap.add_argument("--window", type=float, default=3e-4, help="smoothing window (s)")
     ap.add_argument("--check", default=None, help="bounds JSON (see the docstring)")
+    ap.add_argument("--json", default=None, help="with --check: write the checked numbers here")
     ap.add_argument("--reference", type=float, default=None,
                     help="count penetration below this height (m) instead of from entry")
     ap.add_argument("--title", default="")
@@ -203,7 +212,12 @@ def main():
         except (OSError, ValueError) as e:
             fail("%s: %s" % (a.check, e))
         print("checking the smoothed curve against %s:" % a.check)
-        if not check(pen_mm, s_kpa, bounds, broken):
+        measured = {}
+        good = check(pen_mm, s_kpa, bounds, broken, measured)
+        if a.json:
+            with open(a.json, "w") as j:
+                json.dump(measured, j, indent=1)
+        if not good:
             fail("the reaction curve is outside the bounds of %s" % a.check, 1)
         print("reaction curve within bounds")
 

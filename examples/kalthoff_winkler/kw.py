@@ -12,6 +12,7 @@ and its mean and peak speeds lie below the Rayleigh speed of the material in RUN
 stress nu = 1/3 in 2D, nu = 1/4 in 3D)."""
 
 import argparse
+import json
 import sys
 
 import h5py
@@ -48,8 +49,11 @@ def check(a):
     lo, hi = (float(v) for v in a.angle.split(","))
     print(f"{a.file}: Rayleigh speed c_R = {cr:.0f} m/s (c_s = {cs:.0f}, c_d = {cd:.0f})")
     ok = True
+    out = {"rayleigh_speed": cr}
     for name, d in (("right", a.right), ("left", a.left)):
         s = summary(d)
+        out[name] = {k: float(s[k]) for k in ("angle_to_axis_deg", "path_angle_to_axis_deg",
+                                              "length", "mean_speed", "peak_speed")}
         good = (lo <= s["angle_to_axis_deg"] <= hi and s["mean_speed"] < cr
                 and s["peak_speed"] < cr)
         ok = ok and bool(good)
@@ -59,6 +63,9 @@ def check(a):
               f"{s['mean_speed']:.0f} m/s, peak {s['peak_speed']:.0f} m/s "
               f"({s['mean_speed'] / cr:.2f} / {s['peak_speed'] / cr:.2f} c_R): "
               f"{'ok' if good else 'FAIL'} (angle in [{lo:g}, {hi:g}], speeds < c_R)")
+    if a.json:
+        with open(a.json, "w") as j:
+            json.dump(out, j, indent=1)
     return 0 if ok else 1
 
 
@@ -119,6 +126,7 @@ def main():
     ap.add_argument("left")
     ap.add_argument("--angle", default="68,72", help="allowed angle to the notch axis (deg)")
     ap.add_argument("-o", "--out", default="kalthoff_winkler.png")
+    ap.add_argument("--json", default=None, help="check: also write the numbers to this file")
     ap.add_argument("--dpi", type=int, default=80)
     a = ap.parse_args()
     return check(a) if a.what == "check" else plot(a)

@@ -93,8 +93,10 @@ def main():
         good = drift <= a.energy_tolerance and excess <= a.energy_tolerance
         ok = ok and good
         out.update(kinetic_excess=excess)
+        frac = float(o["fracture_energy/value"][-1]) if "fracture_energy" in o else 0.0
         out.update(energy_drift=drift, kinetic_first=float(o["kinetic_energy/value"][0]),
-                   kinetic_last=float(o["kinetic_energy/value"][-1]), damping=damp)
+                   kinetic_last=float(o["kinetic_energy/value"][-1]), damping=damp,
+                   fracture=frac)
         print(f"energy: KE {out['kinetic_first']:.6g} -> {out['kinetic_last']:.6g} J, damping "
               f"dissipated {damp:.6g} J, balance drift {drift:.3g} of the energy in play "
               f"(allowed {a.energy_tolerance}), max KE - (E(0) + W) {excess:.3g} of it: "
