@@ -229,6 +229,12 @@ struct Exporter {
                                    "{:.4g} m/s -> {}",
                                    fit.nodes, fit.angle_deg, to_axis, fit.mean_speed,
                                    (out_dir / "crack_summary.csv").string()));
+        if (fit.nodes < 2 && !std::isnan(fit.nearest))
+            ctx.log.warn(
+                "{}: no crack path: the nearest cracked node ahead of the origin is "
+                "{:.4g} m from it, beyond the start radius {:.4g} m (--crack-start-radius; "
+                "a notch's corners are its half-width from its nominal tip)",
+                opt.file, fit.nearest, fit.start_radius);
     }
 
     /// `pd-post: FILE: N frame(s) -> PVD; M observable row(s) -> CSV; <made>...`

@@ -34,6 +34,11 @@ struct CrackOptions {
     /// at most this far apart (isolated damage, e.g. at a corner, is left out); 0 = pd-post
     /// uses the largest horizon of the model; infinity = no link test.
     double link = 0;
+    /// m: the path starts at the cracked nodes within max(this, `link`) of the origin.
+    /// A notch's nominal tip is a physical point, the first cracked nodes sit at its corners (a
+    /// half-width away whatever the mesh): give that distance (issue 31: Kalthoff-Winkler at
+    /// h = 0.25 mm, a horizon of 0.75 mm, left the path empty).
+    double start_radius = 0;
     /// m: crack_summary.csv's angle_deg uses the path nodes within this distance of the origin
     /// (the initiation direction); path_angle_deg uses them all.
     double fit_radius = std::numeric_limits<double>::infinity();

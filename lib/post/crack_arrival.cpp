@@ -96,7 +96,7 @@ void select_ahead(std::span<const double> x0, std::span<const double> arrival,
 }
 
 /// Keeps the selected nodes linked to the origin: a breadth-first search over them, seeded by
-/// those within opt.link of the origin (O(m^2) in the m selected nodes).
+/// those within max(opt.start_radius, opt.link) of the origin (O(m^2) in the m selected nodes).
 void keep_linked(std::span<const double> x0, const CrackOptions& opt, CrackFit& fit) {
     std::vector<std::size_t> sel, queue;
     for (std::size_t i = 0; i < fit.on_path.size(); ++i)
@@ -108,8 +108,9 @@ void keep_linked(std::span<const double> x0, const CrackOptions& opt, CrackFit& 
         const double dx = x0[3 * i] - p[0], dy = x0[3 * i + 1] - p[1];
         return dx * dx + dy * dy;
     };
+    const double r0 = std::max(opt.start_radius, opt.link);
     for (std::size_t a = 0; a < sel.size(); ++a)
-        if (dist2(sel[a], opt.origin.data()) <= l2) {
+        if (dist2(sel[a], opt.origin.data()) <= r0 * r0) {
             linked[a] = 1;
             queue.push_back(a);
         }
@@ -204,6 +205,12 @@ CrackFit fit_crack(std::span<const double> x0, std::span<const double> arrival,
     fit.on_path.assign(n, 0);
     fit.along.assign(n, CrackFit::nan);
     select_ahead(x0, arrival, opt, d, fit);
+    fit.start_radius = std::max(opt.start_radius, opt.link);
+    for (std::size_t i = 0; i < n; ++i)
+        if (fit.on_path[i]) {
+            const double r = std::hypot(x0[3 * i] - opt.origin[0], x0[3 * i + 1] - opt.origin[1]);
+            fit.nearest = std::isnan(fit.nearest) ? r : std::min(fit.nearest, r);
+        }
     if (std::isfinite(opt.link) && opt.link > 0)
         keep_linked(x0, opt, fit);
     if (fit.nodes < 2)
@@ -281,10 +288,10 @@ CrackFit write_crack_arrivals(const h5::File& f, const model::Model& m, const Cr
         "# pd-post crack_nodes.csv from {}: nodes whose damage exceeded {} (arrival_time "
         "interpolated linearly between frames); on_path = ahead of ({:g}, {:g}) along "
         "({:g}, {:g}), within {} m of that ray and linked to the origin through cracked nodes "
-        "at most {} m apart (xy plane, reference positions); along = projection on the "
-        "fitted path (m)\n",
+        "at most {} m apart, from those within {} m of it (xy plane, reference positions); "
+        "along = projection on the fitted path (m)\n",
         f.name(), opt.threshold, opt.origin[0], opt.origin[1], opt.direction[0], opt.direction[1],
-        opt.band, o.link);
+        opt.band, o.link, fit.start_radius);
     if (std::fflush(out.get()) != 0)
         throw InputError(fmt::format("{}: write failed (disk full?)", nodes_csv));
 

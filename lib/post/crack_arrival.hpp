@@ -49,13 +49,15 @@ struct CrackFit {
     double angle_to_axis_deg = nan; ///< between that line and `axis`, [0, 180]; NaN if no axis
     double path_angle_deg = nan;    ///< the same over the whole path
     double path_angle_to_axis_deg = nan;
-    double length = nan;               ///< m, farthest projection on the path (from the origin)
-    double start_length = nan;         ///< m, projection of the first node to crack
-    double t_start = nan;              ///< s, first arrival on the path
-    double t_end = nan;                ///< s, arrival at the farthest node
-    double mean_speed = nan;           ///< m/s, (length - start_length) / (t_end - t_start)
-    double peak_speed = nan;           ///< m/s, max windowed slope of the tip L(t)
-    double direction[2] = {nan, nan};  ///< unit path direction (x, y)
+    double length = nan;              ///< m, farthest projection on the path (from the origin)
+    double start_length = nan;        ///< m, projection of the first node to crack
+    double t_start = nan;             ///< s, first arrival on the path
+    double t_end = nan;               ///< s, arrival at the farthest node
+    double mean_speed = nan;          ///< m/s, (length - start_length) / (t_end - t_start)
+    double peak_speed = nan;          ///< m/s, max windowed slope of the tip L(t)
+    double direction[2] = {nan, nan}; ///< unit path direction (x, y)
+    double nearest = nan;      ///< m, from the origin to the nearest cracked node ahead of it
+    double start_radius = nan; ///< m, the start radius used: max(CrackOptions start_radius, link)
     std::vector<std::uint8_t> on_path; ///< per node: 1 = used in the fit
     std::vector<double> along;         ///< per node: projection on the path (m), NaN off path
 };

@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
         ->expected(2, 3);
     app.add_option("--crack-fit-radius", opt.crack_opt.fit_radius, "crack angle: nodes within (m)");
     app.add_option("--crack-link", opt.crack_opt.link, "crack path link distance (m; 0 = horizon)");
+    app.add_option("--crack-start-radius", opt.crack_opt.start_radius,
+                   "the path starts at cracked nodes within (m, at least the link) of the "
+                   "origin; a notch's width when the origin is its nominal tip");
     app.add_option("--crack-threshold", opt.crack_opt.threshold, "phi of a cracked node (0.3)");
     app.add_option("--crack-band", opt.crack_opt.band, "max distance from the path (m)");
     app.add_option("--crack-window", opt.crack_opt.half_window, "speed fit half-width (frames)");

@@ -123,6 +123,30 @@ TEST(CrackArrival, StraightPathAngleAndSpeed) {
     EXPECT_GT(std::abs(loose.angle_to_axis_deg - 70), 0.1);
 }
 
+// A notch's nominal tip is not where its first node cracks (its corners, a half-width away): with
+// the origin 1 mm behind the path's start and a link below that gap the path is empty, and
+// `nearest` says how far the first cracked node is; a start radius beyond it finds the whole
+// path again, at the same angle (issue 31: Kalthoff-Winkler at h = 0.25 mm).
+TEST(CrackArrival, PathStartsWithinTheStartRadius) {
+    const auto H = make(1, 70);
+    auto o = options();
+    o.origin = {0.025 - 1e-3 * std::sin(70 * deg), -1e-3 * std::cos(70 * deg), 0};
+    o.link = 1.2e-3;
+    const auto none = fit_crack(H.x0, H.arrival, o, H.times);
+    EXPECT_EQ(none.nodes, 0u);
+    EXPECT_NEAR(none.nearest, std::hypot(2e-3, 0.3e-3), 1e-12);
+    EXPECT_TRUE(std::isnan(none.angle_deg));
+    o.start_radius = 2.5e-3;
+    const auto fit = fit_crack(H.x0, H.arrival, o, H.times);
+    EXPECT_EQ(fit.nodes, 140u);
+    EXPECT_EQ(fit.start_radius, 2.5e-3);
+    EXPECT_NEAR(fit.angle_to_axis_deg, 70, 1e-9);
+    EXPECT_NEAR(fit.length, 0.071, 1e-12);
+    // A start radius below the link changes nothing (the link is the least).
+    o.start_radius = 1e-4;
+    EXPECT_EQ(fit_crack(H.x0, H.arrival, o, H.times).nodes, 0u);
+}
+
 TEST(CrackArrival, KinkedPathInitiationAngle) {
     // 70 deg for the first 30 mm, then 55 deg: within 30 mm the fit is exactly 70 deg; over the
     // whole path it lies between the two.
