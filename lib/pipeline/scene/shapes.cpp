@@ -235,6 +235,7 @@ void parse_discretization(SceneBuild& s) {
 }
 
 void parse_shapes(SceneBuild& s) {
+    check_shape_budget(s); // every shape of the scene, before any is built
     const json& root = s.root;
     const model::Model& m = s.m;
     const Folder& base_dir = s.base_dir;
