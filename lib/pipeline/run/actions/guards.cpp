@@ -47,6 +47,7 @@ std::pair<std::size_t, double> fastest(const Run& r) {
 /// The state at the failing step as the last frame, flagged with the guard's `kind` (the same
 /// on every rank: the attribute write is collective under MPI-IO).
 void failed_frame(Run& r, std::int64_t n, const char* kind) {
+    ensure_room(r, true, false);
     r.obs.flush();
     write_frame(r);
     r.frames.flag_failed(n, kind);
