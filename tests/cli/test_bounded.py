@@ -376,3 +376,17 @@ def test_csg_under_the_limits_still_packs(bin_dir, tmp_path):
     r = run(bin_dir / "pd-pack", shapes_scene(tmp_path / "3d", {"blob": balls}, 3), "-o",
             tmp_path / "b.h5", "-q")
     assert r.returncode == 0, r.stderr
+
+
+@pytest.mark.parametrize("where", ["alone", "in_union"])
+def test_surface_mesh_file_bounded(bin_dir, tmp_path, where):
+    """A surface_mesh's STL is bounded like a mesh wall's (200 000 triangles): a 100 MB file
+    (sparse) is refused by its size before CGAL reads it."""
+    with open(tmp_path / "big.stl", "wb") as fh:
+        fh.truncate(100 << 20)
+    mesh = {"type": "surface_mesh", "file": "big.stl"}
+    shape = mesh if where == "alone" else {"type": "union", "parts": [
+        {"type": "sphere", "radius": 1e-3}, mesh]}
+    key = "shapes.blob.file" if where == "alone" else "shapes.blob.parts[1].file"
+    scene = shapes_scene(tmp_path, {"blob": shape}, 3)
+    shape_refused(bin_dir, tmp_path, scene, key, "too large", "200000 triangles")
