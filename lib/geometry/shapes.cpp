@@ -124,6 +124,9 @@ Shape Shape::drum2d(double r, double w) {
 }
 
 Shape Shape::polygon(std::vector<Vec2> vertices) {
+    if (vertices.size() > static_cast<std::size_t>(max_polygon_vertices))
+        throw InputError(fmt::format("polygon: {} vertices, above the limit of {}", vertices.size(),
+                                     max_polygon_vertices));
     Node n =
         primitive(ShapeKind::polygon, 2, {}, fmt::format("polygon({} vertices)", vertices.size()));
     // Validates (simple, non-degenerate) and fixes the orientation through a region.

@@ -60,6 +60,29 @@ inline constexpr int curve_segments = 1024;
 /// a surface-mesh part (AABB distance queries).
 inline constexpr int csg_octree_depth = 8;
 
+/// Limits on the work of building a shape (issue 27), which pd-pack counts from the scene before
+/// any shape is built (pipeline/scene/shape_budget.cpp) and refuses above: a 2D union/difference
+/// costs its exact Boolean operations (each CSG node rebuilds its subtree, then joins or
+/// subtracts child after child against a result holding up to all their vertices: measured
+/// 1-3.5e-5 s per vertex operation, 30 disjoint circles 9.2e5 in 12 s, 100 in 209 s), a 3D one
+/// its octree (each CSG node evaluates every part of its subtree at each cell: about 16 ms per
+/// part evaluation, 125 spheres in 2.5 s; a surface_mesh part counts surface_mesh_weight).
+/// A polygon's vertices (its boundary in every Boolean operation, containment and distance
+/// query, and gmsh's points): at most as many as a regular_polygon's sides.
+inline constexpr int max_polygon_vertices = 10000;
+/// Parts (leaves) of one union/difference tree.
+inline constexpr int max_csg_parts = 256;
+/// Vertex operations (2D) of the scene's unions and differences together: sum over the CSG
+/// nodes of (children x the boundary vertices below it); about 3-10 s at the limit. The largest
+/// example (attrition_sim1) needs 4.1e3, ten disjoint circles 1e5.
+inline constexpr double max_csg_vertex_work = 3e5;
+/// Part evaluations (3D) of the scene's unions and differences together: sum over the CSG nodes
+/// of the parts below it; about 8 s at the limit.
+inline constexpr double max_csg_part_work = 512;
+/// What one surface_mesh part counts in those (its AABB distance queries against a primitive's
+/// formula: ~1 s against ~0.1 s, see csg_octree_depth).
+inline constexpr double surface_mesh_weight = 10;
+
 /// A shape in its own frame (lengths in m). The **reference point is the frame origin**: every
 /// grain primitive is centred so that its centroid (and the centre of its bounding circle) is the
 /// origin, as PeriDEM rotates reference meshes about the origin (spec 2.5). Polygons given by
@@ -90,7 +113,8 @@ class Shape {
     /// (w/2, 0), (r/2, r sqrt3/2), (-r/2, r sqrt3/2), (-w/2, 0), (-r/2, -r sqrt3/2),
     /// (r/2, -r sqrt3/2) (spec 2.5).
     static Shape drum2d(double r, double w);
-    /// Simple polygon (at least 3 vertices, no self-intersection, CW or CCW; stored CCW).
+    /// Simple polygon (3 to max_polygon_vertices vertices, no self-intersection, CW or CCW; stored
+    /// CCW).
     static Shape polygon(std::vector<Vec2> vertices);
 
     // ---- CSG (2D or 3D; all parts of one dimension). Children keep their placements (use

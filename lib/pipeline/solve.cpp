@@ -349,11 +349,18 @@ struct Simulation::Impl {
 
     /// Phase 3's errors: those every rank sees alike unwind; any other one aborts the ranks.
     void fail(const std::exception& e) {
-        const bool full = !par && f && disk_full(e, opt.file);
+        // Under MPI only the check before a write (every rank alike, nothing written) is a full
+        // disk that can be recovered; a serial run also after the write the disk refused.
+        const bool every_rank = dynamic_cast<const DiskFullError*>(&e) != nullptr;
+        const bool full = every_rank || (!par && f && disk_full(e, opt.file));
         reserve.release(); // room for HDF5 to flush and close the file (full disk)
-        ctx.errors_collective = agreed;
-        if (full)
+        ctx.errors_collective = agreed || every_rank;
+        if (full) {
+            closed = true; // the file is closed here: the destructor must not close the run again
+            if (par)
+                end_on_full_disk(f, opt.file, e, comm, ctx.rank); // throws, on every rank
             end_on_full_disk(*f, e); // throws: the file cut back to its latest checkpoint
+        }
         if (par && !agreed) {
             ctx.log.error(fmt::format("rank {}: {}", ctx.rank, e.what()));
             MPI_Abort(comm, dynamic_cast<const InputError*>(&e)       ? exit_input
@@ -497,6 +504,7 @@ void Simulation::checkpoint() {
     if (p.complete || p.closed)
         return;
     try {
+        run::ensure_room(*p.r, false, true);
         p.obs->flush();
         run::checkpoint_now(*p.r);
     } catch (const std::exception& e) {
@@ -514,6 +522,7 @@ int Simulation::close() {
     try {
         // A driven run that ends before its last step leaves a checkpoint to continue from.
         if (!p.stopped && p.n < p.st.last && p.n > p.st.first) {
+            run::ensure_room(*p.r, false, true);
             p.obs->flush();
             run::checkpoint_now(*p.r);
         }

@@ -12,6 +12,11 @@
 namespace pd::store {
 
 namespace {
+
+/// Rows per chunk of the frames' step and time, and of every observable series (early
+/// allocation: a chunk takes its whole size in the file when the dataset grows into it).
+constexpr std::uint64_t frame_step_chunk = 1024;
+constexpr std::uint64_t observable_chunk = 4096;
 const std::string P = path::particles;
 const std::string O = path::observables;
 
@@ -85,8 +90,8 @@ FrameWriter::FrameWriter(h5::File& f, std::size_t num_nodes, std::vector<std::st
     f_.set_attr(P + "/box", "dimension", std::int32_t{3});
     f_.set_attr(P + "/box", "boundary", std::vector<std::string>{"none", "none", "none"});
     const std::string pos = field_path("position");
-    f_.create_extendible<std::int64_t>(pos + "/step", {}, 1024);
-    f_.create_extendible<double>(pos + "/time", {}, 1024);
+    f_.create_extendible<std::int64_t>(pos + "/step", {}, frame_step_chunk);
+    f_.create_extendible<double>(pos + "/time", {}, frame_step_chunk);
     f_.set_attr(pos + "/step", "unit", "1");
     f_.set_attr(pos + "/time", "unit", "s");
     for (auto& name : fields_) {
@@ -233,13 +238,13 @@ std::vector<Column> observable_columns(std::size_t walls, std::size_t bodies) {
 void create_series(h5::File& f, const std::vector<Column>& cols,
                    const std::vector<std::int32_t>& bodies) {
     const std::string first = O + "/" + cols.front().name;
-    f.create_extendible<std::int64_t>(first + "/step", {}, 4096);
-    f.create_extendible<double>(first + "/time", {}, 4096);
+    f.create_extendible<std::int64_t>(first + "/step", {}, observable_chunk);
+    f.create_extendible<double>(first + "/time", {}, observable_chunk);
     f.set_attr(first + "/step", "unit", "1");
     f.set_attr(first + "/time", "unit", "s");
     for (const auto& c : cols) {
         const std::string g = O + "/" + c.name;
-        f.create_extendible<double>(g + "/value", c.inner, 4096);
+        f.create_extendible<double>(g + "/value", c.inner, observable_chunk);
         f.set_attr(g + "/value", "unit", c.unit);
         if (g != first) {
             f.hard_link(first + "/step", g + "/step");
@@ -263,7 +268,7 @@ void add_missing_series(h5::File& f, const std::vector<Column>& cols) {
         if (f.exists(g + "/value"))
             continue;
         const auto have = f.shape(first + "/step").at(0);
-        f.create_extendible<double>(g + "/value", c.inner, 4096);
+        f.create_extendible<double>(g + "/value", c.inner, observable_chunk);
         f.set_attr(g + "/value", "unit", c.unit);
         f.hard_link(first + "/step", g + "/step");
         f.hard_link(first + "/time", g + "/time");
@@ -302,6 +307,22 @@ void append_rows(h5::File& f, const std::vector<Column>& cols,
 }
 
 } // namespace
+
+std::uint64_t FrameWriter::frame_bytes() const {
+    std::uint64_t per_node = 0;
+    for (const auto& name : fields_)
+        for (const auto& info : frame_fields())
+            if (info.name == name)
+                per_node += static_cast<std::uint64_t>(info.components);
+    return 8 * per_node * n_ + 2 * 8 * frame_step_chunk;
+}
+
+std::uint64_t ObservableWriter::flush_bytes() const {
+    if (steps_.empty())
+        return 0;
+    const std::uint64_t per_row = values_.size() / steps_.size() + 2; // and step, time
+    return 8 * per_row * (steps_.size() + observable_chunk);
+}
 
 void ObservableWriter::flush() {
     const auto cols = observable_columns(walls_, bodies_.size());

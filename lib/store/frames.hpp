@@ -44,6 +44,9 @@ class FrameWriter {
                const std::map<std::string, std::span<const double>>& data);
     std::size_t frames() const { return frames_; }
     const std::vector<std::string>& fields() const { return fields_; }
+    /// Bytes one more frame can add to the file at most (every field's chunk, allocated whole,
+    /// and a new chunk of step and time), metadata aside.
+    std::uint64_t frame_bytes() const;
     /// Flags the last frame written as the state at a failing step (a guard's exit 3): the
     /// attributes failed_step (the step) and failure (what failed, e.g. "interpenetration") of
     /// /particles/nodes. Collective under MPI-IO (every rank the same values).
@@ -111,6 +114,9 @@ class ObservableWriter {
     void add(std::int64_t step, double time, std::span<const double> values);
     void flush();
     std::size_t buffered() const { return steps_.size(); }
+    /// Bytes the next flush() can add to the file at most (the buffered rows, and a new chunk of
+    /// every series), metadata aside; 0 with nothing buffered.
+    std::uint64_t flush_bytes() const;
 
   private:
     h5::File& f_;

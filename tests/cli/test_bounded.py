@@ -5,8 +5,9 @@ existing output untouched. Classes: JSON nesting (scene and --set), grain counts
 not known before meshing (lattice of a shape meshed from a file or not defined), numbers that do
 not convert to counts, thin shapes (few nodes per area, a long boundary; the grid method's
 bounding-box lattice), bonds (a large horizon multiplies bonds, not nodes), random placement
-(tries and relaxation steps), and pd-file datasets and attributes declared larger than the file
-can hold (allocation before the read)."""
+(tries and relaxation steps), unions/differences and polygons (parts, vertices and the work of
+their Boolean operations, counted from the scene before any shape is built), and pd-file
+datasets and attributes declared larger than the file can hold (allocation before the read)."""
 
 import json
 import math
@@ -257,3 +258,135 @@ def test_huge_declared_dataset_refused(bin_dir, tmp_path, packed, path, tool):
         r.stderr
     assert time.monotonic() - t0 < 20
     assert sha(f) == before
+
+
+# ---------------------------------------------------------------------------------------------
+# Unions, differences and polygons: a shape's geometry is built as the scene is read (2D: CGAL's
+# exact Boolean operations, each CSG node rebuilding its subtree; 3D: octree quadrature), before
+# any node estimate. Counted from the JSON first (geometry/shapes.hpp limits). Before: 30
+# disjoint circles in a union packed in 12 s, 100 in 209 s (310 MB).
+
+
+def circles(k, sep=3e-3, r=1e-3):
+    return [{"type": "circle", "radius": r, "offset": [i * sep, 0]} for i in range(k)]
+
+
+def ngon(n, x=0.0, r=1e-3):
+    return [[x + r * math.cos(2 * math.pi * j / n), r * math.sin(2 * math.pi * j / n)]
+            for j in range(n)]
+
+
+def chain(depth, r=1e-3):
+    """union(union(... union(circle, circle), ...), circle): each level rebuilds those below."""
+    sh = {"type": "circle", "radius": r}
+    for i in range(depth):
+        sh = {"type": "union", "parts": [sh, {"type": "circle", "radius": r,
+                                              "offset": [(i + 1) * r, 0]}]}
+    return sh
+
+
+def shapes_scene(tmp_path, shapes, dim=2, container=None):
+    def mutate(s):
+        s["shapes"] = shapes
+        if dim == 3:
+            s["dimension"] = 3
+            s["shapes"]["ball"] = {"type": "sphere", "radius": 1e-3}
+            for p in s["particles"]:
+                p.update(shape="ball", center=p["center"] + [0], velocity=p["velocity"] + [0])
+                p.pop("radius", None)
+            s["loading"]["gravity"] = [0, 0, 0]
+            s["discretization"]["mesh_size"] = 4e-4
+        if container is not None:
+            s["particles"] = [{"generate": "random_pack", "container": container, "count": 2,
+                               "radius": [1e-3, 1e-3], "seed": 1, "material": "m1"}]
+            s.pop("walls", None)
+    return scene_file(tmp_path / "scene.json", mutate)
+
+
+def shape_refused(bin_dir, tmp_path, scene, *culprits):
+    """pack_refused, and a fresh output name is not created."""
+    r = pack_refused(bin_dir, tmp_path, scene, *culprits, limit_s=5)
+    fresh = tmp_path / "fresh.h5"
+    r2 = run(bin_dir / "pd-pack", scene, "-o", fresh)
+    assert r2.returncode == 2 and not fresh.exists(), r2.stderr
+    return r
+
+
+@pytest.mark.parametrize("shape, dim, culprits", [
+    ({"type": "union", "parts": circles(300)}, 2, ["shapes.blob", "300 parts", "limit of 256"]),
+    ({"type": "union", "parts": [{"type": "sphere", "radius": 1e-3, "offset": [i * 3e-3, 0, 0]}
+                                 for i in range(257)]}, 3, ["shapes.blob", "257 parts"]),
+    ({"type": "difference", "base": {"type": "circle", "radius": 1.0},
+      "minus": circles(400, r=1e-4)}, 2, ["shapes.blob", "401 parts"]),
+], ids=["union_2d", "union_3d", "difference_holes"])
+def test_csg_parts_bounded(bin_dir, tmp_path, shape, dim, culprits):
+    scene = shapes_scene(tmp_path, {"blob": shape}, dim)
+    shape_refused(bin_dir, tmp_path, scene, *culprits)
+
+
+@pytest.mark.parametrize("shape", [
+    {"type": "union", "parts": circles(30)},                          # 9.2e5: 12 s before
+    {"type": "union", "parts": circles(100)},                         # 1e7: 209 s before
+    {"type": "difference", "base": {"type": "circle", "radius": 1.0},
+     "minus": circles(30, r=1e-3)},                                   # 9.8e5: 13.5 s before
+    chain(20),                                                        # 4.7e5: 16.6 s before
+    {"type": "union", "parts": [{"type": "polygon", "vertices": ngon(9000, 3e-3 * i)}
+                                for i in range(8)]},                  # 8 x 9000 vertices
+], ids=["circles_30", "circles_100", "difference_30", "nested_20", "polygons_8x9000"])
+def test_csg_work_bounded(bin_dir, tmp_path, shape):
+    scene = shapes_scene(tmp_path, {"blob": shape})
+    shape_refused(bin_dir, tmp_path, scene, "shapes.blob", "vertex operations", "limit of 3e+05")
+
+
+def test_csg_work_bounded_in_a_container(bin_dir, tmp_path):
+    scene = shapes_scene(tmp_path, {}, container={"type": "union", "parts": circles(30)})
+    shape_refused(bin_dir, tmp_path, scene, "particles[0].container", "vertex operations")
+
+
+def test_csg_work_summed_over_the_scene(bin_dir, tmp_path):
+    """Each shape under the limit (1e5 vertex operations), the scene's shapes together above it:
+    refused at the shape that crosses it."""
+    shapes = {f"s{k}": {"type": "union", "parts": circles(10)} for k in range(4)}
+    scene = shapes_scene(tmp_path, shapes)
+    shape_refused(bin_dir, tmp_path, scene, "shapes.s2", "up to this one need 3.07e+05")
+
+
+@pytest.mark.parametrize("where", ["alone", "in_union"])
+def test_polygon_vertices_bounded(bin_dir, tmp_path, where):
+    poly = {"type": "polygon", "vertices": ngon(10001)}
+    shape = poly if where == "alone" else {"type": "union", "parts": [
+        {"type": "circle", "radius": 1e-3}, poly]}
+    key = "shapes.blob.vertices" if where == "alone" else "shapes.blob.parts[1].vertices"
+    scene = shapes_scene(tmp_path, {"blob": shape})
+    shape_refused(bin_dir, tmp_path, scene, key, "10001 vertices", "limit of 10000")
+
+
+def test_csg_under_the_limits_still_packs(bin_dir, tmp_path):
+    """Ten disjoint circles (1e5 vertex operations) and a 2D chain of 5 unions pack; so does a
+    3D union of 64 spheres."""
+    shapes = {"ten": {"type": "union", "parts": circles(10)},
+              "chain": chain(5),
+              "poly": {"type": "polygon", "vertices": ngon(10000)}}
+    r = run(bin_dir / "pd-pack", shapes_scene(tmp_path, shapes), "-o", tmp_path / "a.h5", "-q")
+    assert r.returncode == 0, r.stderr
+    balls = {"type": "union", "parts": [
+        {"type": "sphere", "radius": 1e-3, "offset": [1.5e-3 * i, 1.5e-3 * j, 1.5e-3 * k]}
+        for i in range(4) for j in range(4) for k in range(4)]}
+    (tmp_path / "3d").mkdir()
+    r = run(bin_dir / "pd-pack", shapes_scene(tmp_path / "3d", {"blob": balls}, 3), "-o",
+            tmp_path / "b.h5", "-q")
+    assert r.returncode == 0, r.stderr
+
+
+@pytest.mark.parametrize("where", ["alone", "in_union"])
+def test_surface_mesh_file_bounded(bin_dir, tmp_path, where):
+    """A surface_mesh's STL is bounded like a mesh wall's (200 000 triangles): a 100 MB file
+    (sparse) is refused by its size before CGAL reads it."""
+    with open(tmp_path / "big.stl", "wb") as fh:
+        fh.truncate(100 << 20)
+    mesh = {"type": "surface_mesh", "file": "big.stl"}
+    shape = mesh if where == "alone" else {"type": "union", "parts": [
+        {"type": "sphere", "radius": 1e-3}, mesh]}
+    key = "shapes.blob.file" if where == "alone" else "shapes.blob.parts[1].file"
+    scene = shapes_scene(tmp_path, {"blob": shape}, 3)
+    shape_refused(bin_dir, tmp_path, scene, key, "too large", "200000 triangles")

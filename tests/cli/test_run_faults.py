@@ -3,13 +3,14 @@
 
 - the disk fills up during pd-solve: exit 2, "the disk is full" said as such, the file valid
   (pd-post --check) and cut back to its latest checkpoint, no side file left, and the run
-  continues with --restart once there is room (a tmpfs of a few MB; skipped when it cannot be
-  mounted);
+  continues with --restart once there is room, at 1 rank and under `mpirun -np 2` (a tmpfs of
+  a few MB; skipped when it cannot be mounted);
 - the file renamed, removed or replaced during pd-solve: exit 2 and a message (was exit 4), the
   renamed file valid, a replacement under the name untouched byte for byte;
-- grains faster than the contact search can see (v dt >= R_c): stopped, exit 3, before the first
-  step or at the step they reach that speed (was: discs at 1e8 m/s passed through each other,
-  0 contacts, exit 0);
+- grains faster than the contact search can see (v dt >= R_c, v relative to the centre of the
+  bodies' velocity box or to a wall): stopped, exit 3, before the first step or at the step they
+  reach that speed, alike at 2 ranks; a fast translating pair runs (was: discs at 1e8 m/s
+  passed through each other, 0 contacts, exit 0);
 - dimension, planar and body kind fields that disagree with the file are refused by every tool
   (exit 2, the dataset named), and pd-pack refuses to write a model pd-solve would refuse."""
 
@@ -72,12 +73,31 @@ def frames_of(f):
         return steps, int(str(latest).split("_")[1]), sorted(h["/checkpoints"])
 
 
-def test_disk_full_said_and_file_valid(bin_dir, small_disk, tmp_path):
+def solve_cmd(bin_dir, ranks, *args):
+    exe = [str(bin_dir / "pd-solve"), *map(str, args)]
+    if ranks == 1:
+        return exe
+    return ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), *exe]
+
+
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_disk_full_said_and_file_valid(bin_dir, small_disk, tmp_path, ranks):
+    """At one rank the write the disk refused is undone; under MPI (where a write refused on one
+    rank leaves the others inside HDF5's collective calls) every rank stops before the write
+    the disk cannot hold. Either way: exit 2, one error line (no second one from the
+    teardown), the file cut back to its latest checkpoint and valid, and it continues."""
     f = pack(bin_dir, small_disk, mutate=lambda s: s["solver"].update(
         output_interval=2e-6, checkpoint_interval=5e-5))
-    r = run(bin_dir / "pd-solve", f, timeout=300)
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    r = subprocess.run(solve_cmd(bin_dir, ranks, f), capture_output=True, text=True,
+                       timeout=300, env=env)
     assert_refused(r, "the disk is full", "--restart")
-    assert "disk full: No space left on device" in r.stderr  # the system's reason, said
+    errors = [line for line in r.stderr.splitlines() if "pd-solve: error:" in line]
+    assert len(errors) == 1, r.stderr
+    if ranks == 1:
+        assert "disk full: No space left on device" in r.stderr  # the system's reason, said
+    else:
+        assert "not written, on any rank" in r.stderr and "MPI_ABORT" not in r.stderr, r.stderr
     assert sorted(p.name for p in small_disk.iterdir()) == ["run.h5", "run.h5.json"], \
         list(small_disk.iterdir())  # no .reserve, .lock or .tmp left
     check_ok(bin_dir, f)
@@ -87,7 +107,8 @@ def test_disk_full_said_and_file_valid(bin_dir, small_disk, tmp_path):
     # With room again, the run continues from that checkpoint to its end.
     big = tmp_path / "big.h5"
     shutil.copy(f, big)
-    r = run(bin_dir / "pd-solve", big, "--restart", "-q", timeout=300)
+    r = subprocess.run(solve_cmd(bin_dir, ranks, big, "--restart", "-q"), capture_output=True,
+                       text=True, timeout=300, env=env)
     assert r.returncode == 0, r.stderr
     check_ok(bin_dir, big)
 
@@ -166,20 +187,79 @@ def test_too_fast_for_contact_stopped_at_start(bin_dir, tmp_path, speed):
     assert_refused(r, "stopped before step 1", "contact radius", "v dt < R_c", code=3)
 
 
-def test_too_fast_stopped_when_reached(bin_dir, tmp_path):
-    """Gravity of 1e8 m/s2 brings the discs to the limit during the run: stopped then, the
-    state at that step the last frame, flagged."""
+@pytest.mark.parametrize("how", ["wall", "fixed_disc"])
+def test_too_fast_stopped_when_reached(bin_dir, tmp_path, how):
+    """Gravity of 1e8 m/s2 brings a disc to the limit during the run: stopped then, the state at
+    that step the last frame, flagged. Both discs falling together towards a wall 10 m away
+    (their speed relative to the wall counts), or one falling away from a fixed one (their
+    speeds relative to each other count)."""
     def mutate(s):
-        s["loading"] = {"gravity": [1e8, 0]}
+        s["loading"] = {"gravity": [1e8, 0] if how == "wall" else [-1e8, 0]}
         for p in s["particles"]:
             p["velocity"] = [0, 0]
+        if how == "wall":
+            s["walls"] = [{"type": "plane", "point": [10, 0], "normal": [-1, 0]}]
+        else:
+            s["particles"][1]["fixed"] = True
     f = pack(bin_dir, tmp_path, mutate=mutate)
     r = run(bin_dir / "pd-solve", f, timeout=300)
     assert_refused(r, "stopped at step", "v dt < R_c", code=3)
+    assert ("relative to wall 0" in r.stderr) == (how == "wall"), r.stderr
     with h5py.File(f, "r") as h:
         assert h["/particles/nodes"].attrs["failure"] in ("too fast for contact",
                                                           b"too fast for contact")
     check_ok(bin_dir, f)
+
+
+def mpirun2(bin_dir, *args):
+    return subprocess.run(["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2",
+                           str(bin_dir / "pd-solve"), *map(str, args)], capture_output=True,
+                          text=True, timeout=300, env=dict(os.environ, OMP_NUM_THREADS="1"))
+
+
+@pytest.mark.parametrize("velocity", [[1e5, 0], [-7e4, 7e4]], ids=["x", "diagonal"])
+def test_fast_translation_runs(bin_dir, tmp_path, velocity):
+    """The limit is on speeds relative to the centre of the bodies' velocity box (a pair's
+    closing speed is at most the box's extent), not on absolute speeds: two discs flying
+    together at 1e5 m/s (0.087 m per step, R_c 6.8e-5 m) run at 1 and 2 ranks, and the same
+    frames come out (before: exit 3, "moves at 1e+05 m/s")."""
+    def mutate(s):
+        for p in s["particles"]:
+            p["velocity"] = velocity
+    f = pack(bin_dir, tmp_path, mutate=mutate)
+    g = tmp_path / "two_ranks.h5"
+    shutil.copy(f, g)
+    r = run(bin_dir / "pd-solve", f, "--steps", 50, "-q", timeout=120)
+    assert r.returncode == 0, r.stderr
+    r = mpirun2(bin_dir, g, "--steps", 50, "-q")
+    assert r.returncode == 0, r.stderr
+    with h5py.File(f, "r") as a, h5py.File(g, "r") as b:
+        xa = a["/particles/nodes/position/value"][()]
+        xb = b["/particles/nodes/position/value"][()]
+        t = a["/particles/nodes/position/time"][()]
+    assert xa.shape == xb.shape and np.allclose(xa, xb, rtol=0, atol=1e-12 * np.abs(xa).max())
+    assert len(t) >= 2
+    moved = xa[-1, :, 0].mean() - xa[0, :, 0].mean()  # free flight: v t
+    assert abs(moved - velocity[0] * (t[-1] - t[0])) < 1e-6 * abs(moved)
+
+
+def test_too_fast_head_on_refused_alike_at_two_ranks(bin_dir, tmp_path):
+    """The head-on pair at 1e8 m/s is refused at 2 ranks with the 1-rank message, once (the
+    ranks agree on the reduced speeds: no MPI_Abort)."""
+    def mutate(s):
+        s["particles"][0]["velocity"] = [1e8, 0]
+        s["particles"][1]["velocity"] = [-1e8, 0]
+    f = pack(bin_dir, tmp_path, mutate=mutate)
+    g = tmp_path / "two_ranks.h5"
+    shutil.copy(f, g)
+    one = run(bin_dir / "pd-solve", f, timeout=120)
+    two = mpirun2(bin_dir, g)
+    assert_refused(one, "stopped before step 1", "v dt < R_c", code=3)
+    assert_refused(two, "stopped before step 1", "v dt < R_c", code=3)
+    line = [x for x in one.stderr.splitlines() if "error:" in x]
+    lines = [x for x in two.stderr.splitlines() if "error:" in x]
+    assert len(lines) == 1 and "MPI_ABORT" not in two.stderr, two.stderr
+    assert lines[0].replace(str(g), str(f)) == line[0]
 
 
 def test_slow_grains_run(bin_dir, tmp_path):

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "pipeline/run/schedule.hpp"
 
+#include "pipeline/full_disk.hpp"
 #include "store/frames.hpp"
 
 #include <map>
@@ -72,6 +73,24 @@ double busy_seconds(Timers& timers) {
           "pd::solver::wall_contact", "pd::solver::integrate", "pd::solver::damping_friction"})
         busy += timers.total(timers.id(name));
     return busy;
+}
+
+void ensure_room(const Run& r, bool frame, bool checkpoint) {
+    if (!r.par)
+        return;
+    std::uint64_t bytes = r.obs.flush_bytes();
+    if (frame)
+        bytes += r.frames.frame_bytes();
+    if (checkpoint) // displacement, velocity, force density (3 per node each), bond_alive
+        bytes += 8 * 9 * static_cast<std::uint64_t>(r.m.nodes.num()) +
+                 static_cast<std::uint64_t>(r.m.bonds.num());
+    pipeline::ensure_room(r.opt.file, bytes,
+                          fmt::format("the {} of step {}",
+                                      frame && checkpoint ? "frame and checkpoint"
+                                      : frame             ? "frame"
+                                                          : "checkpoint",
+                                      r.s.state().step),
+                          r.comm, r.ctx.rank);
 }
 
 void write_frame(Run& r) {

@@ -112,5 +112,9 @@ double busy_seconds(Timers& timers);
 void write_frame(Run& r);
 /// Writes a checkpoint of the current state to /checkpoints (collective; actions/checkpoint.cpp).
 void checkpoint_now(Run& r);
+/// Under MPI, before the buffered observable rows and a frame (`frame`) or a checkpoint are
+/// written (collective): throws DiskFullError on every rank when the disk cannot hold them
+/// (pipeline/full_disk.hpp); nothing at one rank (a refused write is recovered after it).
+void ensure_room(const Run& r, bool frame, bool checkpoint);
 
 } // namespace pd::pipeline::run

@@ -86,6 +86,10 @@ struct SceneBuild {
 void parse_materials(SceneBuild& s);
 /// "discretization" (shapes.cpp).
 void parse_discretization(SceneBuild& s);
+/// Refuses shapes (named, random_pack containers) whose union/difference parts, polygon vertices
+/// or Boolean work are above the limits of geometry/shapes.hpp, counted from the JSON before any
+/// shape is built (shape_budget.cpp).
+void check_shape_budget(const SceneBuild& s);
 /// "shapes": the named reference shapes (shapes.cpp).
 void parse_shapes(SceneBuild& s);
 /// "particles": explicit entries and generators, with the node estimate (particles.cpp).

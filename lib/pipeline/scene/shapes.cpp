@@ -3,10 +3,12 @@
 #include "mesh/discretize.hpp"
 #include "mesh/gmsh_mesher.hpp"
 #include "mesh/shape_mesher.hpp"
+#include "model/wall_mesh.hpp"
 #include "pipeline/scene/build.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <optional>
 
@@ -116,8 +118,18 @@ geometry::Shape other_shape(const std::string& type, const json& o, const std::s
         if (file.empty())
             throw ConfigError(w + ".file", "missing: the STL file (ASCII or binary) of this "
                                            "surface_mesh, relative to the scene file");
+        const std::string path = resolve(base, file, w + ".file");
+        // As a mesh wall's STL (wall_mesh.cpp): the file's size bounds its triangles before
+        // CGAL reads it and checks it for self-intersections.
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(path, ec);
+        const std::uintmax_t limit = 8 * (84 + 50 * std::uintmax_t{model::max_wall_mesh_cells});
+        if (!ec && size > limit)
+            throw ConfigError(w + ".file", fmt::format("'{}' has {} bytes: too large for a "
+                                                       "surface of at most {} triangles",
+                                                       path, size, model::max_wall_mesh_cells));
         try {
-            return geometry::Shape::surface_mesh(resolve(base, file, w + ".file"));
+            return geometry::Shape::surface_mesh(path);
         } catch (const ConfigError&) {
             throw;
         } catch (const InputError& e) {
@@ -235,6 +247,7 @@ void parse_discretization(SceneBuild& s) {
 }
 
 void parse_shapes(SceneBuild& s) {
+    check_shape_budget(s); // every shape of the scene, before any is built
     const json& root = s.root;
     const model::Model& m = s.m;
     const Folder& base_dir = s.base_dir;

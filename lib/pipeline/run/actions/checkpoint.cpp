@@ -57,6 +57,7 @@ class Checkpoint final : public Action {
         , t_ck_(r.s.timers().id("pd::store::checkpoint")) {}
     void run(Run& r, std::int64_t) override {
         ScopedTimer t(r.s.timers(), t_ck_);
+        ensure_room(r, false, true);
         r.obs.flush();
         checkpoint_now(r);
     }

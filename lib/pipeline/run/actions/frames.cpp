@@ -19,6 +19,7 @@ class Frames final : public Action {
     void run(Run& r, std::int64_t) override {
         Timers& timers = r.s.timers();
         ScopedTimer t(timers, t_out_);
+        ensure_room(r, true, false);
         r.obs.flush();
         write_frame(r);
         check_named(r);

@@ -7,9 +7,11 @@
 #include "core/errors.hpp"
 #include "h5/file.hpp"
 #include "pipeline/run/schedule.hpp"
+#include "solver/walls.hpp"
 #include "store/frames.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -47,6 +49,7 @@ std::pair<std::size_t, double> fastest(const Run& r) {
 /// The state at the failing step as the last frame, flagged with the guard's `kind` (the same
 /// on every rank: the attribute write is collective under MPI-IO).
 void failed_frame(Run& r, std::int64_t n, const char* kind) {
+    ensure_room(r, true, false);
     r.obs.flush();
     write_frame(r);
     r.frames.flag_failed(n, kind);
@@ -143,10 +146,99 @@ std::string penetration_numbers(const Run& r) {
            softer;
 }
 
+/// The fastest closing motion the contact search must see within one step (collective; every
+/// rank gets the same answer from min/max reductions, whatever the rank count).
+/// - Between bodies: each node's speed relative to the centre c of the box of all node
+///   velocities (component-wise min and max over every rank's nodes). Safe because for any
+///   pair |v_i - v_j| = |(v_i - c) - (v_j - c)| <= 2 max_k |v_k - c| (<= the box's diagonal): if
+///   every node moves less than R_c per step relative to c, no pair closes by 2 R_c (the width
+///   of the contact zone) in one step -- the bound the absolute speed gave, now unchanged by a
+///   translation of the whole system (two discs flying together at 1e5 m/s run).
+/// - Against a rigid wall (moving or not): the node's velocity relative to the wall's surface
+///   velocity at the node (translation plus rotation about its centre), for the walls the node's
+///   group has a contact law with, once present: a node closing on a wall by R_c per step (the
+///   zone is R_c deep on one side) passes it unseen.
+struct Closing {
+    double speed = -1;                     ///< m s-1
+    std::size_t node = 0;                  ///< the node that has it
+    int wall = -1;                         ///< -1: relative to the velocity centre of the bodies
+    std::array<double, 3> centre{0, 0, 0}; ///< m s-1, that centre
+};
+
+/// The velocity box's centre of every rank's nodes.
+std::array<double, 3> velocity_centre(const Run& r) {
+    const auto& st = r.s.state();
+    const double inf = std::numeric_limits<double>::infinity();
+    std::array<double, 3> lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+    for (auto row : st.rows)
+        for (std::size_t d = 0; d < 3; ++d) {
+            const double v = st.v[3 * static_cast<std::size_t>(row) + d];
+            lo[d] = std::min(lo[d], v);
+            hi[d] = std::max(hi[d], v);
+        }
+    if (r.par) {
+        MPI_Allreduce(MPI_IN_PLACE, lo.data(), 3, MPI_DOUBLE, MPI_MIN, r.comm);
+        MPI_Allreduce(MPI_IN_PLACE, hi.data(), 3, MPI_DOUBLE, MPI_MAX, r.comm);
+    }
+    std::array<double, 3> c{0, 0, 0};
+    for (std::size_t d = 0; d < 3; ++d)
+        if (lo[d] <= hi[d]) // no node anywhere: 0
+            c[d] = 0.5 * (lo[d] + hi[d]);
+    return c;
+}
+
+Closing fastest_closing(const Run& r) {
+    const auto& st = r.s.state();
+    const auto& walls = r.m.walls;
+    std::vector<solver::WallPose> pose;
+    for (const auto& w : walls)
+        pose.push_back(solver::wall_pose(w, st.time));
+    // [0]: relative to the velocity centre; [1 + k]: relative to wall k (MAXLOC pairs).
+    struct Loc {
+        double v;
+        int i;
+    };
+    std::vector<Loc> best(1 + walls.size(), Loc{-1.0, 0});
+    const auto c = velocity_centre(r);
+    for (auto row : st.rows) {
+        const auto i = static_cast<std::size_t>(row);
+        const double* v = &st.v[3 * i];
+        const double s = std::hypot(v[0] - c[0], v[1] - c[1], v[2] - c[2]);
+        if (s > best[0].v)
+            best[0] = {s, static_cast<int>(i)};
+        const auto group = r.m.bodies.group[static_cast<std::size_t>(st.body[i])];
+        for (std::size_t k = 0; k < walls.size(); ++k) {
+            const auto* law = r.m.contact_between(group, walls[k].group);
+            if (!law || !(law->stiffness > 0 && law->radius > 0) || st.time < walls[k].start_time)
+                continue;
+            const auto& p = pose[k];
+            const double* x = &st.x[3 * i];
+            const double q[3] = {x[0] - p.centre[0], x[1] - p.centre[1], x[2] - p.centre[2]};
+            const double u[3] = {p.velocity[0] + p.omega[1] * q[2] - p.omega[2] * q[1],
+                                 p.velocity[1] + p.omega[2] * q[0] - p.omega[0] * q[2],
+                                 p.velocity[2] + p.omega[0] * q[1] - p.omega[1] * q[0]};
+            const double sw = std::hypot(v[0] - u[0], v[1] - u[1], v[2] - u[2]);
+            if (sw > best[1 + k].v)
+                best[1 + k] = {sw, static_cast<int>(i)};
+        }
+    }
+    if (r.par)
+        MPI_Allreduce(MPI_IN_PLACE, best.data(), static_cast<int>(best.size()), MPI_DOUBLE_INT,
+                      MPI_MAXLOC, r.comm);
+    Closing out;
+    out.centre = c;
+    for (std::size_t k = 0; k < best.size(); ++k)
+        if (best[k].v > out.speed) {
+            out.speed = best[k].v;
+            out.node = static_cast<std::size_t>(best[k].i);
+            out.wall = static_cast<int>(k) - 1;
+        }
+    return out;
+}
+
 /// Contact at any speed, by a time-step limit from the velocities (the search does not sweep
-/// along a step): a node that moves R_c or more per step can pass a node of another grain
-/// between two steps unseen (head-on, the two close by up to 2 v dt, the contact zone is 2 R_c
-/// wide). Empty when every node is slower than R_c / dt (collective).
+/// along a step): fastest_closing's speed times dt must stay below the smallest contact radius.
+/// Empty when it does (collective).
 std::string too_fast(const Run& r) {
     double rc = std::numeric_limits<double>::infinity();
     for (const auto& p : r.m.contact)
@@ -154,16 +246,24 @@ std::string too_fast(const Run& r) {
             rc = std::min(rc, p.radius);
     if (!std::isfinite(rc))
         return {};
-    const auto [fast, vmax] = fastest(r);
-    if (!(vmax * r.steps.dt >= rc))
+    const auto fc = fastest_closing(r);
+    const double v = fc.speed;
+    if (!(v * r.steps.dt >= rc))
         return {};
-    return fmt::format("node {} of body {} moves at {:.4g} m/s, {:.4g} m per step (dt = {:.4g} "
-                       "s), not less than the smallest contact radius R_c = {:.4g} m: grains "
-                       "can pass through each other between two steps with no contact seen. "
-                       "The contact search needs v dt < R_c: dt below {:.4g} s (solver.dt or "
-                       "dt_safety) or slower grains (--no-penetration-check runs on)",
-                       fast, r.s.state().body[fast], vmax, vmax * r.steps.dt, r.steps.dt, rc,
-                       rc / vmax);
+    const std::string against =
+        fc.wall >= 0 ? fmt::format("relative to wall {} ('{}')", fc.wall,
+                                   r.m.walls[static_cast<std::size_t>(fc.wall)].name)
+                     : fmt::format("relative to the centre of the bodies' velocities ({:.4g}, "
+                                   "{:.4g}, {:.4g}) m/s",
+                                   fc.centre[0], fc.centre[1], fc.centre[2]);
+    return fmt::format("node {} of body {} moves at {:.4g} m/s {}, {:.4g} m per step (dt = "
+                       "{:.4g} s), not less than the smallest contact radius R_c = {:.4g} m: "
+                       "grains can pass through each other or a wall between two steps with no "
+                       "contact seen. The contact search needs v dt < R_c: dt below {:.4g} s "
+                       "(solver.dt or dt_safety) or slower grains (--no-penetration-check runs "
+                       "on)",
+                       fc.node, r.s.state().body[fc.node], v, against, v * r.steps.dt, r.steps.dt,
+                       rc, rc / v);
 }
 
 class Guards final : public Action {
@@ -173,9 +273,11 @@ class Guards final : public Action {
         reference(r);
         if (!r.opt.penetration_check)
             return;
-        if (const auto why = too_fast(r); !why.empty()) // stopped before the first step
+        if (const auto why = too_fast(r); !why.empty()) { // stopped before the first step
+            r.agreed = true; // every rank throws here (reduced values): no MPI_Abort
             throw NumericalError(
                 fmt::format("{}: stopped before step {}: {}", r.opt.file, r.steps.first + 1, why));
+        }
     }
     void run(Run& r, std::int64_t n) override {
         finite(r, n);
