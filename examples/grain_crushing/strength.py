@@ -122,6 +122,8 @@ def per_size(rows):
 
 def size_exponent(d, sigma):
     """(b, its standard error, ln prefactor) of sigma ~ d^b (least squares in log-log)."""
+    if len(d) < 2:
+        return float("nan"), float("nan"), float("nan")
     x, y = np.log(d), np.log(sigma)
     p, cov = np.polyfit(x, y, 1, cov=True) if len(x) > 2 else (np.polyfit(x, y, 1), None)
     return float(p[0]), float(math.sqrt(cov[0, 0])) if cov is not None else float("nan"), \
