@@ -11,9 +11,14 @@ compliance against the 2D line-contact (Hertz-type) reference. Used by strength.
 tolerances stated there); exit 1 when one fails.
 
 The 2D reference (a disc of radius R, plane stress, between two flat rigid platens, load P per
-unit thickness; Johnson, Contact Mechanics (1985) eq. 5.37 per contact, both contacts summed):
+unit thickness): the shortening of the loaded diameter,
     u_H(P) = (2 P / (pi E)) (2 ln(4 R / b) - 1),   b = sqrt(4 P R / (pi E)),
-b the contact half-width. The platen travel also holds the contact law's penalty and the
+b the Hertz half-width. Derivation: along the loaded diameter the disc under diametral point
+loads has sigma_xx = 2P/(pi d), sigma_yy = -(2P/pi)(1/(R-y) + 1/(R+y)) + 2P/(pi d); integrating
+(sigma_yy - nu sigma_xx)/E to a distance c of each pole gives (2P/(pi E))(2 ln(2R/c) - 1 + nu);
+Hertz's pressure p0 sqrt(1 - x^2/b^2) replaces the point load's near field by c = (b/2)
+exp(nu/2) (the integrals of Hertz's sigma_z and sigma_x along the axis), and nu cancels
+(Johnson, Contact Mechanics (1985), ch. 5, line contact). The platen travel also holds the contact law's penalty and the
 softer peridynamic surface layer, both of width ~h, so u / u_H falls towards 1 as d / h grows."""
 import argparse
 import json
