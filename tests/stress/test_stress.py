@@ -119,6 +119,12 @@ EXAMPLE_RUNS = {
     # the published resolution (h = 1 mm): 2D 62 steps; 3D (202 010 nodes, 30.5 M bonds) 12 steps
     "kalthoff_winkler/scene_2d.json": 1e-5,
     "kalthoff_winkler/scene_3d.json": 1.5e-6,
+    # the elastic stage (the split comes at 36 us / 17.6 us): once a flawed grain splits,
+    # fragments and fines leave at up to 71 m/s (disc) / 85 m/s (hexagon), above the speed bound
+    # 2 c s0 = 29.4 m/s, which counts neither the flaw factors (w up to ~2) nor the biaxial
+    # energy a node's family releases (measured 2026-12-05; examples/grain_crushing)
+    "grain_crushing/scene.json": 2e-5,
+    "grain_crushing/scene_hexagon.json": 1.5e-5,
 }
 FRAMES = 20
 # Examples that break a check and exit 0 today (measured on this branch; see the table).
