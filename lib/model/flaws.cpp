@@ -25,6 +25,15 @@ double flaw_uniform(std::int64_t seed, std::int64_t body, std::int64_t a, std::i
     return (static_cast<double>(h >> 11) + 0.5) * 0x1.0p-53;
 }
 
+double flaw_cell_factor(double modulus, std::int64_t seed, std::int64_t body, std::int64_t cx,
+                        std::int64_t cy, std::int64_t cz) {
+    std::uint64_t h = mix(static_cast<std::uint64_t>(seed) ^ 0x6365'6c6cULL); // "cell"
+    for (std::int64_t v : {body, cx, cy, cz})
+        h = mix(h ^ static_cast<std::uint64_t>(v));
+    const double u = (static_cast<double>(h >> 11) + 0.5) * 0x1.0p-53;
+    return std::pow(-std::log1p(-u) / std::log(2.0), 1.0 / modulus);
+}
+
 double flaw_factor(double modulus, std::int64_t seed, std::int64_t body, std::int64_t a,
                    std::int64_t b) {
     const double u = flaw_uniform(seed, body, a, b);

@@ -19,4 +19,12 @@ double flaw_uniform(std::int64_t seed, std::int64_t body, std::int64_t a, std::i
 double flaw_factor(double modulus, std::int64_t seed, std::int64_t body, std::int64_t a,
                    std::int64_t b);
 
+/// The Weibull factor of a patch (correlated flaws, `length` L > 0): every bond whose midpoint
+/// lies in the cell (cx, cy, cz) of a grid of spacing L (in the body's frame: reference position
+/// minus the body's placement centre, floor(./L)) shares it, so the body is a mosaic of patches
+/// of one strength each, weakest-link between patches (issue 31 item 3: per-bond factors average
+/// out over the bonds a crack must cut, the grain's strength scatters 2-3 % for m = 4).
+double flaw_cell_factor(double modulus, std::int64_t seed, std::int64_t body, std::int64_t cx,
+                        std::int64_t cy, std::int64_t cz);
+
 } // namespace pd::model

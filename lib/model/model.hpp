@@ -46,6 +46,8 @@ struct Material {
     /// and the bond's two node indices in the body; 0 = none (every bond breaks at s0).
     double flaw_modulus = 0;
     std::int64_t flaw_seed = 0;
+    /// m: 0 = one factor per bond; > 0 = one per patch of this size (model::flaw_cell_factor).
+    double flaw_length = 0;
     bool has_flaws() const { return flaw_modulus > 0; }
     double bulk_modulus() const; ///< K, Pa, from E and nu
     bool breakable() const { return fracture_energy > 0; }

@@ -368,12 +368,23 @@ void flaw_row(const State& s, BondData& b, const BodyLaw& law, std::size_t a, st
         return;
     const std::int64_t i0 = law.first_node[body];
     const std::int64_t i = s.rows[a] - i0;
+    const double L = law.flaw_len[body];
     double least = std::numeric_limits<double>::infinity();
     for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
         const auto kk = static_cast<std::size_t>(k);
-        const double sc =
-            s0 * model::flaw_factor(law.flaw_m[body], law.flaw_seed[body],
-                                    static_cast<std::int64_t>(body), i, b.neighbor[kk] - i0);
+        double sc = 0;
+        if (L > 0) { // the patch of the bond's midpoint (the same from both ends)
+            std::int64_t c[3];
+            const auto p = static_cast<std::size_t>(s.rows[a]);
+            const auto q = static_cast<std::size_t>(b.neighbor[kk]);
+            for (std::size_t d = 0; d < 3; ++d)
+                c[d] = static_cast<std::int64_t>(std::floor(
+                    (0.5 * (s.x0[3 * p + d] + s.x0[3 * q + d]) - law.centre[3 * body + d]) / L));
+            sc = s0 * model::flaw_cell_factor(law.flaw_m[body], law.flaw_seed[body],
+                                              static_cast<std::int64_t>(body), c[0], c[1], c[2]);
+        } else
+            sc = s0 * model::flaw_factor(law.flaw_m[body], law.flaw_seed[body],
+                                         static_cast<std::int64_t>(body), i, b.neighbor[kk] - i0);
         b.lc[kk] = b.xi[kk] * (1.0 + sc);
         least = std::min(least, sc);
     }

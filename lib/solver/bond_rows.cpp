@@ -23,6 +23,8 @@ void size_law(BodyLaw& law, std::size_t nb, int dimension) {
     law.s0.resize(nb);
     law.s0_lo.assign(nb, 0.0);
     law.flaw_m.assign(nb, 0.0);
+    law.flaw_len.assign(nb, 0.0);
+    law.centre.assign(3 * nb, 0.0);
     law.flaw_seed.assign(nb, 0);
     law.first_node.assign(nb, 0);
     law.any_flaws = false;
@@ -110,6 +112,9 @@ void law_constants(Forces& f) {
         if (mat.has_flaws() && std::isfinite(f.law.s0[b]) && !f.m.bodies.fixed[b]) {
             f.law.flaw_m[b] = mat.flaw_modulus;
             f.law.flaw_seed[b] = mat.flaw_seed;
+            f.law.flaw_len[b] = mat.flaw_length;
+            for (std::size_t d = 0; d < 3; ++d)
+                f.law.centre[3 * b + d] = f.m.bodies.center[3 * b + d];
             f.law.first_node[b] = f.m.bodies.begin(b);
             f.law.any_flaws = true;
         }

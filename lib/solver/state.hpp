@@ -146,6 +146,7 @@ struct BodyLaw {
     /// Flaws (model/flaws.hpp) per body: Weibull modulus (0 = none), seed, first node index
     /// (the bond's node indices within the body are counted from it); any_flaws: some has them.
     std::vector<double> flaw_m;
+    std::vector<double> flaw_len, centre; ///< per body: patch size (0: per bond); 3 per body
     std::vector<std::int64_t> flaw_seed, first_node;
     bool any_flaws = false;
     std::vector<double> kappa; ///< LPS bulk modulus of the d-dimensional problem, Pa

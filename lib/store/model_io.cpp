@@ -59,6 +59,8 @@ void write_materials(h5::File& f, const model::Model& m) {
         if (mat.has_flaws()) { // 1.7.0, written only with flaws
             put_scalar(f, g + "/flaw_modulus", mat.flaw_modulus, "1");
             put_scalar(f, g + "/flaw_seed", mat.flaw_seed, "1");
+            if (mat.flaw_length > 0) // 1.8.0
+                put_scalar(f, g + "/flaw_length", mat.flaw_length, "m");
         }
     }
 }

@@ -61,6 +61,10 @@ void read_flaws(const h5::File& f, const std::string& g, model::Material& mat) {
     require_between(f, g + "/flaw_modulus", mat.flaw_modulus, 0.5, 1000, "1");
     if (mat.flaw_seed < 0)
         throw SchemaError(f.name(), g + "/flaw_seed", fmt::format("{} < 0", mat.flaw_seed));
+    if (f.exists(g + "/flaw_length")) { // 1.8.0: patches of one factor; absent = per bond
+        mat.flaw_length = get_scalar<double>(f, g + "/flaw_length");
+        require_between(f, g + "/flaw_length", mat.flaw_length, 0, 1e10, "m");
+    }
     if (!mat.breakable() || mat.law == model::Law::rnp || mat.break_in_compression)
         throw SchemaError(f.name(), g + "/flaw_modulus",
                           "flaws need a breakable PMB or LPS material breaking in tension only");

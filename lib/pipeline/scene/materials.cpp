@@ -81,7 +81,7 @@ void parse_flaws(const json& mj, const std::string& w, model::Material& mat) {
     if (!j.is_object())
         throw ConfigError(wf, "expected an object {\"law\": \"weibull\", \"modulus\": m, "
                               "\"seed\": k}");
-    check_keys(j, wf, {"law", "modulus", "seed"});
+    check_keys(j, wf, {"law", "modulus", "seed", "length"});
     if (text(j, wf, "law", "weibull", {"weibull", "none"}) == "none")
         return;
     mat.flaw_modulus = positive(j, wf, "modulus", 0, true);
@@ -92,6 +92,9 @@ void parse_flaws(const json& mj, const std::string& w, model::Material& mat) {
     if (!(seed >= 0 && seed < 9e15) || seed != std::floor(seed))
         throw ConfigError(wf + ".seed", "expected an integer >= 0");
     mat.flaw_seed = static_cast<std::int64_t>(seed);
+    mat.flaw_length = number(j, wf, "length", 0);
+    if (!(mat.flaw_length >= 0 && mat.flaw_length < 1e10))
+        throw ConfigError(wf + ".length", "must be >= 0 m (0: one factor per bond)");
     if (!(mat.fracture_energy > 0))
         throw ConfigError(wf, "the material is unbreakable (fracture_energy 0): no flaws");
     if (mat.law == model::Law::rnp || mat.break_in_compression)
