@@ -108,18 +108,23 @@ class ApproachDamping final : public ForceTerm {
         for (int d = 0; d < 3; ++d)
             fd[d] += k * n[d];
     }
+    /// The law between bodies a and b if it damps (PeriDEM's approach damping, some stiffness).
+    static const model::ContactPair* damped(const Forces& f, std::size_t a, std::size_t b) {
+        const auto* law = f.m.contact_between(f.m.bodies.group[a], f.m.bodies.group[b]);
+        return law && law->approach > 0 && law->stiffness > 0 ? law : nullptr;
+    }
+    static double dist(const double* p, const double* q) {
+        return std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                         (p[2] - q[2]) * (p[2] - q[2]));
+    }
     void grain_pairs(const Forces& f, std::size_t b, double* fd) const {
         const auto& B = f.m.bodies;
         for (auto o : grains_) {
             if (o == b)
                 continue;
-            const auto* law = f.m.contact_between(B.group[b], B.group[o]);
-            if (!law || !(law->approach > 0) || !(law->stiffness > 0))
-                continue;
-            double r2 = 0;
-            for (std::size_t d = 0; d < 3; ++d)
-                r2 += std::pow(c_[6 * o + d] - c_[6 * b + d], 2);
-            if (!(std::sqrt(r2) < B.bounding_radius[b] + B.bounding_radius[o] + 1.01 * law->radius))
+            const auto* law = damped(f, b, o);
+            if (!law || !(dist(&c_[6 * o], &c_[6 * b]) <
+                          B.bounding_radius[b] + B.bounding_radius[o] + 1.01 * law->radius))
                 continue;
             const double mi = mass(f, b), mj = mass(f, o);
             const double beta = law->approach * std::sqrt(law->radius * mi * mj / (mi + mj));
@@ -138,13 +143,8 @@ class ApproachDamping final : public ForceTerm {
                 const auto bk = std::size_t(s.body[k]);
                 if (B.kind[bk] != model::BodyKind::wall)
                     continue;
-                const auto* law = f.m.contact_between(B.group[b], B.group[bk]);
-                if (!law || !(law->approach > 0) || !(law->stiffness > 0))
-                    continue;
-                double r2 = 0;
-                for (std::size_t d = 0; d < 3; ++d)
-                    r2 += std::pow(s.x[3 * k + d] - s.x[3 * std::size_t(i) + d], 2);
-                if (std::sqrt(r2) < law->radius)
+                const auto* law = damped(f, b, bk);
+                if (law && dist(&s.x[3 * k], &s.x[3 * std::size_t(i)]) < law->radius)
                     near_.push_back(*p);
             }
         }

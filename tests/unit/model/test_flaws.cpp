@@ -41,6 +41,23 @@ double fitted_modulus(const std::vector<double>& w) {
     return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+/// Calls fn(model, a, j, s_c / s0) for every bond a -> j of a one-disc scene, after the
+/// solver's setup (1 rank: row a is node a).
+template <class Fn>
+void each_bond(const std::string& scene, Fn fn) {
+    const pd::Log quiet("test", 0, pd::Verbosity::quiet);
+    const auto m = pd::pipeline::build_scene(scene, "disc", quiet);
+    pd::solver::Solver s(m);
+    s.initialize();
+    const auto& b = s.bonds();
+    const double s0 = pd::model::pmb_constants(m.materials[0], m.bodies.horizon[0], 2, m.planar).s0;
+    for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a)
+        for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            fn(m, a, static_cast<std::size_t>(b.neighbor[kk]), (b.lc[kk] / b.xi[kk] - 1) / s0);
+        }
+}
+
 } // namespace
 
 TEST(Flaws, OneGrainFitsTheWeibullModulusAndMedian) {
@@ -69,25 +86,19 @@ TEST(Flaws, SymmetricPerBondAndSeeded) {
 TEST(Flaws, TheBondsOfOneDiscFitTheWeibullLawAroundS0) {
     // A PMB disc of 1 mm at h = 0.025 mm (about 5000 nodes, 70 000 bonds): the solver's
     // per-bond critical stretch lc / xi - 1 over its own s0.
-    const pd::Log quiet("test", 0, pd::Verbosity::quiet);
     const std::string sc = R"({"dimension": 2,
       "materials": {"m": {"density": 1000, "youngs_modulus": 1e8, "fracture_energy": 10,
                           "flaws": {"law": "weibull", "modulus": 6, "seed": 1}}},
       "discretization": {"mesh_size": 2.5e-5, "horizon_factor": 3},
       "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m"}],
       "solver": {"final_time": 1e-6}})";
-    const auto m = pd::pipeline::build_scene(sc, "disc", quiet);
-    pd::solver::Solver s(m);
-    s.initialize();
-    const auto& b = s.bonds();
-    const double s0 = pd::model::pmb_constants(m.materials[0], m.bodies.horizon[0], 2, m.planar).s0;
     std::vector<double> w;
-    for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a)
-        for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k)
-            if (b.neighbor[static_cast<std::size_t>(k)] > static_cast<std::int32_t>(a))
-                w.push_back(
-                    (b.lc[static_cast<std::size_t>(k)] / b.xi[static_cast<std::size_t>(k)] - 1) /
-                    s0);
+    double s0 = 0;
+    each_bond(sc, [&](const pd::model::Model& m, std::size_t a, std::size_t j, double r) {
+        s0 = pd::model::pmb_constants(m.materials[0], m.bodies.horizon[0], 2, m.planar).s0;
+        if (j > a)
+            w.push_back(r);
+    });
     std::sort(w.begin(), w.end());
     const double fit = fitted_modulus(w);
     std::printf("disc: %zu bonds, s0 = %.4g, fitted modulus %.4f (m = 6), median s_c / s0 %.4f, "
@@ -112,31 +123,21 @@ TEST(Flaws, PatchesShareOneFactorAndFitTheWeibullLaw) {
     std::sort(cells.begin(), cells.end());
     EXPECT_NEAR(fitted_modulus(cells) / 4, 1.0, 0.10);
     EXPECT_NEAR(cells[cells.size() / 2], 1.0, 0.05);
-    const pd::Log quiet("test", 0, pd::Verbosity::quiet);
     const std::string sc = R"({"dimension": 2,
       "materials": {"m": {"density": 1000, "youngs_modulus": 1e8, "fracture_energy": 10,
                           "flaws": {"law": "weibull", "modulus": 4, "seed": 3, "length": 2.5e-4}}},
       "discretization": {"mesh_size": 5e-5, "horizon_factor": 3},
       "particles": [{"radius": 1e-3, "center": [2e-3, 1e-3], "material": "m"}],
       "solver": {"final_time": 1e-6}})";
-    const auto m = pd::pipeline::build_scene(sc, "disc", quiet);
-    pd::solver::Solver s(m);
-    s.initialize();
-    const auto& b = s.bonds();
-    const double s0 = pd::model::pmb_constants(m.materials[0], m.bodies.horizon[0], 2, m.planar).s0;
     std::size_t checked = 0;
-    for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a)
-        for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            const auto j = static_cast<std::size_t>(b.neighbor[kk]);
-            std::int64_t c[2];
-            for (std::size_t d = 0; d < 2; ++d)
-                c[d] = static_cast<std::int64_t>(std::floor(
-                    (0.5 * (m.nodes.x0[3 * a + d] + m.nodes.x0[3 * j + d]) - m.bodies.center[d]) /
-                    2.5e-4));
-            EXPECT_NEAR((b.lc[kk] / b.xi[kk] - 1) / s0, flaw_cell_factor(4, 3, 0, c[0], c[1], 0),
-                        1e-9);
-            ++checked;
-        }
+    each_bond(sc, [&](const pd::model::Model& m, std::size_t a, std::size_t j, double r) {
+        std::int64_t c[2];
+        for (std::size_t d = 0; d < 2; ++d)
+            c[d] = static_cast<std::int64_t>(std::floor(
+                (0.5 * (m.nodes.x0[3 * a + d] + m.nodes.x0[3 * j + d]) - m.bodies.center[d]) /
+                2.5e-4));
+        EXPECT_NEAR(r, flaw_cell_factor(4, 3, 0, c[0], c[1], 0), 1e-9);
+        ++checked;
+    });
     EXPECT_GT(checked, 10000u);
 }
