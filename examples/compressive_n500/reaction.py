@@ -90,9 +90,10 @@ def smooth(t, y, window):
     return c
 
 
-def check(pen_mm, s_kpa, bounds, broken, measured):
+def check(pen_mm, s_kpa, bounds, broken, measured=None):
     """True when every bound holds; each checked number also goes into `measured` (--json)."""
     ok = True
+    measured = {} if measured is None else measured
 
     def report(name, value, lo, hi, key):
         nonlocal ok

@@ -44,7 +44,7 @@ def read_frames(path):
             # were seen on a loaded machine): the frames held whole are those in both.
             n = min(len(steps), pos.shape[0])
             return [(int(steps[k]), pos[k]) for k in range(n)]
-    except OSError:
+    except (OSError, KeyError):  # a flush in progress (KeyError: an object header mid-write)
         return None
 
 
