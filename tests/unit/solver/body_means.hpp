@@ -6,8 +6,11 @@
 #include "model/model.hpp"
 #include "solver/solver.hpp"
 #include "solver/state.hpp"
+#include "solver/walls.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 namespace pd::test {
@@ -48,6 +51,39 @@ inline solver::State state_of(const model::Model& m) {
     for (std::size_t i = 0; i < s.n; ++i)
         s.rows.push_back(static_cast<solver::index_t>(i));
     return s;
+}
+
+/// A rotating wall swept into a grain at rest: the scene's first wall at t = 10 k R_c (k = 0..100,
+/// R_c the first contact law's radius; 1 rad/s), the wall search updated and its forces added
+/// each time. `near(s, i)` says whether node i should touch at s.time. Returns the largest
+/// number touching and the first step k where the search's count differs from near's (-1: none).
+struct Sweep {
+    std::int64_t touched = 0;
+    int bad_step = -1;
+    std::int64_t got = 0, want = 0; ///< at bad_step
+};
+template <class Near>
+Sweep rotating_wall_sweep(const model::Model& m, Near near) {
+    const double rc = m.contact.front().radius;
+    auto s = state_of(m);
+    solver::WallContact wc(m, rc);
+    Sweep r;
+    for (int k = 0; k <= 100; ++k) {
+        s.time = k * 10.0 * rc; // 1 rad/s at 10 mm: the wall near the disc rises 0.1 R_c a step
+        wc.update(s);
+        solver::WallLoad load;
+        wc.add_forces(s, load, nullptr);
+        std::int64_t n = 0;
+        for (std::size_t i = 0; i < s.n; ++i)
+            n += near(s, i) ? 1 : 0;
+        if (load.touching != n && r.bad_step < 0) {
+            r.bad_step = k;
+            r.got = load.touching;
+            r.want = n;
+        }
+        r.touched = std::max(r.touched, n);
+    }
+    return r;
 }
 
 /// Solves 30 ms at 0.7x the automatic step with gravity g along -axis and returns the walls'

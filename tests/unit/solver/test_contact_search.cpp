@@ -215,26 +215,15 @@ TEST(WallSearch, RotatingWallMeetsAGrainFarFromItsCentre) {
       "contact": {"law": "node"}, "solver": {"final_time": 1}})",
                                          "t", quiet);
     const double rc = m.contact.front().radius;
-    auto s = test::state_of(m);
-    solver::WallContact wc(m, rc);
-    std::int64_t touched = 0;
-    for (int k = 0; k <= 100; ++k) {
-        s.time = k * 10.0 * rc; // 1 rad/s at 10 mm: the wall near the disc rises 0.1 R_c a step
-        wc.update(s);
-        solver::WallLoad load;
-        wc.add_forces(s, load, nullptr);
+    const auto r = test::rotating_wall_sweep(m, [&](const solver::State& s, std::size_t i) {
         const auto pose = solver::wall_pose(m.walls.front(), s.time);
-        std::int64_t near = 0;
-        for (std::size_t i = 0; i < s.n; ++i) {
-            double d = 0;
-            for (std::size_t q = 0; q < 3; ++q)
-                d += (s.x[3 * i + q] - pose.point[q]) * pose.normal[q];
-            near += d < rc;
-        }
-        ASSERT_EQ(load.touching, near) << "step " << k;
-        touched = std::max(touched, near);
-    }
-    EXPECT_GT(touched, 10); // the wall did reach into the disc
+        double d = 0;
+        for (std::size_t q = 0; q < 3; ++q)
+            d += (s.x[3 * i + q] - pose.point[q]) * pose.normal[q];
+        return d < rc;
+    });
+    EXPECT_EQ(r.bad_step, -1) << r.got << " touching, " << r.want << " within R_c";
+    EXPECT_GT(r.touched, 10); // the wall did reach into the disc
 }
 
 /// Is (x, y) inside the closed polygon of body b's boundary facets (ray casting)?

@@ -233,26 +233,15 @@ TEST(MeshWall, RotatingPolylineMeetsAGrainFarFromItsCentre) {
       "contact": {"law": "node"}, "solver": {"final_time": 1}})",
                                          "t", quiet);
     const double rc = m.contact.front().radius;
-    auto s = test::state_of(m);
-    solver::WallContact wc(m, rc);
-    std::int64_t touched = 0;
-    for (int k = 0; k <= 100; ++k) {
-        s.time = k * 10.0 * rc;
-        wc.update(s);
-        solver::WallLoad load;
-        wc.add_forces(s, load, nullptr);
+    // A mesh wall is searched within R_c + skin (the skin is R_c here): nodes deeper behind it
+    // are not pushed.
+    const auto r = test::rotating_wall_sweep(m, [&](const solver::State& s, std::size_t i) {
         const double th = s.time; // 1 rad/s
-        // A mesh wall is searched within R_c + skin (the skin is R_c here): nodes deeper
-        // behind it are not pushed.
-        std::int64_t near = 0;
-        for (std::size_t i = 0; i < s.n; ++i) {
-            const double d = -std::sin(th) * s.x[3 * i] + std::cos(th) * s.x[3 * i + 1];
-            near += d < rc && d >= -2 * rc;
-        }
-        ASSERT_EQ(load.touching, near) << "step " << k;
-        touched = std::max(touched, near);
-    }
-    EXPECT_GT(touched, 10);
+        const double d = -std::sin(th) * s.x[3 * i] + std::cos(th) * s.x[3 * i + 1];
+        return d < rc && d >= -2 * rc;
+    });
+    EXPECT_EQ(r.bad_step, -1) << r.got << " touching, " << r.want << " within R_c";
+    EXPECT_GT(r.touched, 10);
 }
 
 /// A temporary folder holding a 3D scene and the two-triangle floor [-4, 4] mm^2 at z = 0 (normal
