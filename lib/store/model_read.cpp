@@ -266,6 +266,14 @@ void read_contact(const h5::File& f, model::Model& m) {
     // /contact/approach_damping (pd-file 1.8.0): absent = 0 (no PeriDEM particle damping).
     auto appr = f.exists(c + "/approach_damping") ? get<double>(f, c + "/approach_damping", {np})
                                                   : std::vector<double>(np, 0.0);
+    // 1.8.0 wrote A with kappa = K_i K_j / (K_i + K_j) for a solver that used the reduced mass:
+    // half PeriDEM's damping (1.8.1: both 2 a b / (a + b), PeriDEM's util::equivalentMass).
+    if (f.attr_string("/", "schema_version") == "1.8.0" &&
+        std::any_of(appr.begin(), appr.end(), [](double a) { return a > 0; }))
+        throw SchemaError(f.name(), c + "/approach_damping",
+                          "written by pd-pack of pd-file 1.8.0, whose PeriDEM particle damping "
+                          "was half PeriDEM's; import the deck again (pd-pack --from-peridem "
+                          "--parity peridem)");
     require_range<std::int32_t>(f, c + "/group_a", ga, 0, max_group + 1);
     require_range<std::int32_t>(f, c + "/group_b", gb, 0, max_group + 1);
     for (std::size_t k = 0; k < np; ++k) {

@@ -206,6 +206,10 @@ def test_schema_agrees_with_store_header():
     s = schema()
     version = re.search(r'schema_version\s*=\s*"([^"]+)"', hpp).group(1)
     assert version == s["version"]
+    # raise_version compares the integers: they must spell the same version (they said 1.2.0
+    # while the string said 1.8.0, so a 1.5.0 file that pd-solve added to was never raised).
+    ints = [re.search(r"schema_%s\s*=\s*(\d+)" % k, hpp).group(1) for k in ("major", "minor", "patch")]
+    assert ".".join(ints) == version
     assert re.search(r'schema_name\s*=\s*"([^"]+)"', hpp).group(1) == s["schema"]
     paths = {e["path"] for e in s["entries"]}
     consts = re.findall(r'constexpr const char\*\s+\w+\s*=\s*"(/[^"]*)"', hpp)

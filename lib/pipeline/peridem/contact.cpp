@@ -12,8 +12,9 @@ namespace pd::pipeline::peridem {
 namespace {
 
 /// PeriDEM 0.2's particle damping of zones (i, j) (--parity peridem): beta_n = Beta_n_Factor
-/// (-2 ln eps / sqrt(pi^2 + ln^2 eps)) and kappa the harmonic mean (a b / (a + b)) of the deck's
-/// bulk moduli, as PeriDEM's DEMModel::setupContact; pdgrain's A = beta_n sqrt(kappa).
+/// (-2 ln eps / sqrt(pi^2 + ln^2 eps)) and kappa the harmonic mean 2 a b / (a + b) of the deck's
+/// bulk moduli (PeriDEM's DEMModel::setupContact: util::equivalentMass, which is 2 a b / (a + b),
+/// so kappa = K for one material); pdgrain's A = beta_n sqrt(kappa).
 double approach_damping(const YAML::Node& n, const std::string& w, const Import& im,
                         std::pair<int, int> ij) {
     const double eps = num_or(n, w, "Epsilon", 1), log_e = std::log(eps);
@@ -23,7 +24,7 @@ double approach_damping(const YAML::Node& n, const std::string& w, const Import&
     const double kj = im.zone_bulk.at(static_cast<std::size_t>(ij.second - 1));
     if (!(eps > 0 && eps <= 1))
         throw ConfigError(w + ".Epsilon", "must be in (0, 1]");
-    return beta > 1e-8 ? beta * std::sqrt(ki * kj / (ki + kj)) : 0.0;
+    return beta > 1e-8 ? beta * std::sqrt(2 * ki * kj / (ki + kj)) : 0.0;
 }
 
 /// One Contact.Zone_<i><j> block -> a scene contact law.

@@ -6,7 +6,8 @@
 // nearest its placement centre, as PeriDEM's reference particle picks it), R_i its bounding
 // radius and m_i = rho_i pi R_i^2 (2D, per unit thickness):
 // - two grains with |x_cj - x_ci| < R_i + R_j + 1.01 R_c: beta = A sqrt(R_c m_eq), m_eq =
-//   m_i m_j / (m_i + m_j), n = (x_cj - x_ci) / |.|, and every node of i gets the force density
+//   2 m_i m_j / (m_i + m_j) (PeriDEM's util::equivalentMass: m for equal grains, not the reduced
+//   mass), n = (x_cj - x_ci) / |.|, and every node of i gets the force density
 //   beta min(0, (v_cj - v_ci) . n) n / (pi R_i^2);
 // - a grain and every node k of a meshed wall within R_c of one of its nodes: the same with
 //   m_eq = m_i, n from x_ci to x_k and v_k - v_ci.
@@ -127,7 +128,7 @@ class ApproachDamping final : public ForceTerm {
                           B.bounding_radius[b] + B.bounding_radius[o] + 1.01 * law->radius))
                 continue;
             const double mi = mass(f, b), mj = mass(f, o);
-            const double beta = law->approach * std::sqrt(law->radius * mi * mj / (mi + mj));
+            const double beta = law->approach * std::sqrt(law->radius * 2 * mi * mj / (mi + mj));
             push(f, b, beta, &c_[6 * o], &c_[6 * o + 3], fd);
         }
     }
