@@ -245,6 +245,10 @@ struct SolverSettings {
     /// PeriDEM runs them at; a blow-up still stops the run, exit 3); false: refused unless
     /// pd-solve --force-dt.
     bool dt_above_estimate_warns = false;
+    /// A node found inside another grain (or beyond a wall) is a warning, once, and the run goes
+    /// on (PeriDEM decks: PeriDEM has no such guard and runs through the tunnelling its contact
+    /// radius allows); false: the run stops, exit 3.
+    bool penetration_warns = false;
     /// Nodal fields written in frames besides position (only these are computed at frames).
     std::vector<std::string> fields{"velocity", "displacement", "force",       "damage",
                                     "damage_z", "fragment",     "broken_bonds"};

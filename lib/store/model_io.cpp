@@ -257,6 +257,8 @@ void write_solver(h5::File& f, const model::Model& m) {
                static_cast<std::int32_t>(S.quadrature_calibration), "1");
     if (S.dt_above_estimate_warns) // 1.6.0, written only when set
         put_scalar(f, s + "/dt_above_estimate", std::int32_t{1}, "1");
+    if (S.penetration_warns) // 1.8.1, written only when set
+        put_scalar(f, s + "/penetration_warns", std::int32_t{1}, "1");
     {
         std::string fl;
         for (const auto& x : S.fields)

@@ -488,6 +488,8 @@ void read_solver(const h5::File& f, model::Model& m) {
     // Absent (files before 1.3.0) = off: such a file solves as it did when it was written.
     S.dt_above_estimate_warns = f.exists(s + "/dt_above_estimate") &&
                                 get_scalar<std::int32_t>(f, s + "/dt_above_estimate") != 0;
+    S.penetration_warns = f.exists(s + "/penetration_warns") && // 1.8.1; absent = stop
+                          get_scalar<std::int32_t>(f, s + "/penetration_warns") != 0;
     S.quadrature_calibration = f.exists(s + "/quadrature_calibration") &&
                                get_scalar<std::int32_t>(f, s + "/quadrature_calibration") != 0;
     if (f.has_attr(s, "fields")) {

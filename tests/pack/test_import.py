@@ -369,8 +369,11 @@ def test_deck_dt_above_the_estimate_runs_with_a_warning(pd_pack, shared_dir, tmp
     r = run(pd_pack, "--from-peridem", deck, "-o", h5, "--write-scene", scene, "-q")
     assert r.returncode == 0, r.stderr
     assert json.loads(scene.read_text())["solver"]["dt_above_estimate"] == "warn"
+    # Nor does PeriDEM stop where a node tunnels (its drum deck does at 5.7 ms): a warning.
+    assert json.loads(scene.read_text())["solver"]["penetration"] == "warn"
     with h5py.File(h5, "r") as f:
         assert f["solver/dt_above_estimate"][()] == 1
+        assert f["solver/penetration_warns"][()] == 1
     r = run(pd_pack.parent / "pd-solve", h5, "--steps", 20)
     assert r.returncode == 0, r.stderr
     assert "exceeds the stability estimate" in r.stderr, r.stderr

@@ -19,7 +19,9 @@ void read_output(Import& im) {
                 {"surface_correction", false},
                 {"quadrature_calibration", false},
                 // PeriDEM runs its deck's dt whatever the estimate says: a warning, not a refusal
-                {"dt_above_estimate", "warn"}};
+                {"dt_above_estimate", "warn"},
+                // nor stops where a node tunnels into a grain: a warning, and the run goes on
+                {"penetration", "warn"}};
     if (auto out = R["Output"]) {
         const double every = num_or(out, "Output", "Output_Interval", 0);
         if (every > 0)

@@ -14,7 +14,7 @@ void parse_solver(SceneBuild& s) {
     check_keys(sv, "solver",
                {"final_time", "dt", "dt_safety", "output_interval", "observe_every", "integrator",
                 "contact_skin", "checkpoint_interval", "surface_correction",
-                "quadrature_calibration", "fields", "dt_above_estimate"});
+                "quadrature_calibration", "fields", "dt_above_estimate", "penetration"});
     auto& S = m.solver;
     S.final_time = positive(sv, "solver", "final_time", 0, true);
     if (!(S.final_time <= 1e6)) // 11 days of explicit dynamics: a typo or an overflow
@@ -25,6 +25,7 @@ void parse_solver(SceneBuild& s) {
         S.dt = sv.contains("dt") ? positive(sv, "solver", "dt", 0) : 0.0;
     S.dt_above_estimate_warns =
         text(sv, "solver", "dt_above_estimate", "refuse", {"refuse", "warn"}) == "warn";
+    S.penetration_warns = text(sv, "solver", "penetration", "stop", {"stop", "warn"}) == "warn";
     S.dt_safety = positive(sv, "solver", "dt_safety", 0.85);
     if (S.dt_safety > 1)
         throw ConfigError("solver.dt_safety", "must be in (0, 1]");

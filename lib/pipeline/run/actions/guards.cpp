@@ -295,12 +295,25 @@ class Guards final : public Action {
 
   private:
     double energy0_ = 0, balance0_ = 0, in_play_ = 0;
+    bool warned_ = false; ///< solver.penetration "warn": the first breach was reported
+
+    /// A node inside a grain or beyond a wall: stop (exit 3), or under solver.penetration "warn"
+    /// (PeriDEM decks) say it once and go on. `o.inside_pairs` and `o.beyond_wall` are reduced
+    /// over the ranks, so every rank takes the same branch.
+    void breach(Run& r, std::int64_t n, const char* kind, const std::string& why) {
+        if (!r.m.solver.penetration_warns)
+            stop_with_row(r, n, kind, why);
+        warned_ = true;
+        r.ctx.log.warn("{} (solver.penetration: warn, as PeriDEM decks run: the run goes on and "
+                       "later ones are not reported)",
+                       why);
+    }
 
     void reference(Run& r);
     void finite(Run& r, std::int64_t n) const;
     void bounded(Run& r, std::int64_t n) const;
-    void inside(Run& r, std::int64_t n) const;
-    void beyond_wall(Run& r, std::int64_t n) const;
+    void inside(Run& r, std::int64_t n);
+    void beyond_wall(Run& r, std::int64_t n);
     void balance(Run& r, std::int64_t n);
 };
 
@@ -380,45 +393,43 @@ void Guards::bounded(Run& r, std::int64_t n) const {
 }
 
 /// Interpenetration: a node more than R_c + h/2 inside another grain.
-void Guards::inside(Run& r, std::int64_t n) const {
+void Guards::inside(Run& r, std::int64_t n) {
     const auto& o = r.last_obs;
-    if (o.inside_pairs <= 0)
+    if (o.inside_pairs <= 0 || warned_)
         return;
     const std::string numbers = penetration_numbers(r); // collective
-    stop_with_row(
-        r, n, "interpenetration",
-        fmt::format("{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) "
-                    "more than the contact radius + h/2 inside another grain{}; {}. Contact "
-                    "failed: a node passed between the few nodes within R_c of it (README "
-                    "\"Tunnelling and the contact radius\": a stiffer K_n alone does not stop "
-                    "it). Give the grains' contact a radius of 3 mesh sizes "
-                    "(contact \"radius_mesh_factor\": 3) or slow the loading or impact. The "
-                    "state at this step is the last frame (flagged: /particles/nodes attribute "
-                    "failed_step), the frames before stay valid; --no-penetration-check runs on",
-                    r.opt.file, n, r.s.state().time, o.inside_pairs,
-                    o.inside_node >= 0 ? fmt::format(" (node {} of body {} inside body {})",
-                                                     o.inside_node, o.inside_body, o.inside_of)
-                                       : std::string{},
-                    numbers));
+    breach(r, n, "interpenetration",
+           fmt::format("{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) "
+                       "more than the contact radius + h/2 inside another grain{}; {}. Contact "
+                       "failed: a node passed between the few nodes within R_c of it (README "
+                       "\"Tunnelling and the contact radius\": a stiffer K_n alone does not stop "
+                       "it). Give the grains' contact a radius of 3 mesh sizes "
+                       "(contact \"radius_mesh_factor\": 3) or slow the loading or impact. The "
+                       "state at this step is the last frame (flagged: /particles/nodes attribute "
+                       "failed_step), the frames before stay valid; --no-penetration-check runs on",
+                       r.opt.file, n, r.s.state().time, o.inside_pairs,
+                       o.inside_node >= 0 ? fmt::format(" (node {} of body {} inside body {})",
+                                                        o.inside_node, o.inside_body, o.inside_of)
+                                          : std::string{},
+                       numbers));
 }
 
-void Guards::beyond_wall(Run& r, std::int64_t n) const {
+void Guards::beyond_wall(Run& r, std::int64_t n) {
     const auto& o = r.last_obs;
-    if (o.beyond_wall <= 0)
+    if (o.beyond_wall <= 0 || warned_)
         return;
-    stop_with_row(
-        r, n, "node beyond a wall",
-        fmt::format("{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
-                    "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
-                    "too soft for this impact (raise contact.stiffness_factor, lower the "
-                    "speed); the state at this step is the last frame (flagged), the frames "
-                    "before stay in the file (--no-penetration-check runs on)",
-                    r.opt.file, n, r.s.state().time, o.beyond_wall,
-                    o.beyond_node >= 0
-                        ? fmt::format(" (node {} of body {}, wall {})", o.beyond_node,
-                                      r.s.state().body[static_cast<std::size_t>(o.beyond_node)],
-                                      o.beyond_wall_index)
-                        : std::string{}));
+    breach(r, n, "node beyond a wall",
+           fmt::format("{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
+                       "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
+                       "too soft for this impact (raise contact.stiffness_factor, lower the "
+                       "speed); the state at this step is the last frame (flagged), the frames "
+                       "before stay in the file (--no-penetration-check runs on)",
+                       r.opt.file, n, r.s.state().time, o.beyond_wall,
+                       o.beyond_node >= 0
+                           ? fmt::format(" (node {} of body {}, wall {})", o.beyond_node,
+                                         r.s.state().body[static_cast<std::size_t>(o.beyond_node)],
+                                         o.beyond_wall_index)
+                           : std::string{}));
 }
 
 /// Energy balance: energy created (an instability, even one that fracture then absorbs) or lost
