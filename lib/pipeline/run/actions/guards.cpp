@@ -434,12 +434,42 @@ void Guards::beyond_wall(Run& r, std::int64_t n) {
 
 /// Energy balance: energy created (an instability, even one that fracture then absorbs) or lost
 /// without account shows up here long before 100x.
+/// Velocity Verlet's full-step energy KE(v_n) + U(x_n) is not the energy it conserves: v_n
+/// carries half a kick dt F_n / (2 m) that no work has paid for yet, so the balance can sit off
+/// by sum |F_i|^2 dt^2 / (8 m_i) at any step (and by as much at its reference). Where nothing else
+/// is in play, at a grain's first contact with a moving plate, that is a large share of the
+/// energy (15 % at the first contact step, tolerance 5 %: tests/solve/test_energy_guard.py).
+/// Collective (the callers' branch is on reduced values).
+double kick_energy(const Run& r) {
+    const auto& s = r.s.state();
+    double e = 0;
+    for (auto row : s.rows) {
+        const auto i = static_cast<std::size_t>(row);
+        if (!s.moving[i])
+            continue;
+        for (std::size_t d = 0; d < 3; ++d)
+            if (!(s.fixed_dof[i] & (1u << d))) {
+                const double F = s.f[3 * i + d] * s.vol[i];
+                e += F * F / (8 * s.rho[i] * s.vol[i]);
+            }
+    }
+    e *= r.steps.dt * r.steps.dt;
+    if (r.par)
+        MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_SUM, r.comm);
+    return e;
+}
+
 void Guards::balance(Run& r, std::int64_t n) {
     const auto& o = r.last_obs;
     in_play_ = std::max(in_play_, solver::energy_in_play(o));
     const double drift = solver::energy_balance(o) - balance0_;
     const double tol = r.opt.energy_tolerance;
     if (!(tol > 0 && std::isfinite(balance0_) && std::abs(drift) > tol * in_play_ && in_play_ > 0))
+        return;
+    // Within the integrator's own half kick (at this step and at the reference), as far as
+    // contact can carry it: a first contact's is of its contact energy's order ((omega_c dt /
+    // 2)^2 U_c, omega_c dt <= 2), while an unstable bond mode's would hide its own growth.
+    if (std::abs(drift) <= tol * in_play_ + std::min(2 * kick_energy(r), o.contact_energy))
         return;
     r.obs.add(n, r.s.state().time, observable_row(o)); // the row that failed
     failed_frame(r, n, "energy balance");
