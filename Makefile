@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release -DPD_ENABLE_ASSERTS=ON
 
-.PHONY: all deps deps-test configure build test demo bench examples examples-run accuracy stability \
+.PHONY: all deps deps-test configure build test demo bench bench-lammps examples examples-run accuracy stability \
 	install quick-python format format-check clean deps-asan asan-build test-asan fuzz ci
 
 all: build
@@ -162,3 +162,8 @@ clean:
 bench: build
 	@$(BUILD)/bin/solver_bench
 	@/usr/bin/python3 workflows/bench/peridem/run.py --build $(BUILD)
+
+# pdgrain against Debian's LAMMPS on LAMMPS' bench/POTENTIALS/in.peri (workflows/bench/lammps/;
+# needs `apt-get install lammps`, a benchmark reference only: without `lmp` it says so, exit 2).
+bench-lammps: build
+	@/usr/bin/python3 workflows/bench/lammps/run.py --build $(BUILD)

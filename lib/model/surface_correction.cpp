@@ -2,6 +2,7 @@
 #include "model/surface_correction.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -9,8 +10,23 @@ namespace pd::model {
 
 namespace {
 
-/// Unit direction from node i to node j in the body frame; returns the distance.
-double direction(const FamilyRows& f, std::size_t i, std::size_t j, double n[3]) {
+/// The rotation of node i's body frame about z (cos, sin of f.angle[i]): computed once per row,
+/// not per bond; cos 0 = 1 and sin 0 = 0 exactly, so an angle 0 skips the two calls and gives
+/// the same bits.
+struct Turn {
+    double co = 1, so = 0;
+};
+
+Turn row_turn(const FamilyRows& f, std::size_t i) {
+    const double a = f.angle.empty() ? 0.0 : f.angle[i];
+    if (a == 0)
+        return {};
+    return {std::cos(a), std::sin(a)};
+}
+
+/// Unit direction from node i to node j in the body frame (t: node i's turn); returns the
+/// distance.
+double direction(const FamilyRows& f, Turn t, std::size_t i, std::size_t j, double n[3]) {
     double dx[3];
     double r2 = 0;
     for (std::size_t c = 0; c < 3; ++c) {
@@ -18,15 +34,42 @@ double direction(const FamilyRows& f, std::size_t i, std::size_t j, double n[3])
         r2 += dx[c] * dx[c];
     }
     const double r = std::sqrt(r2);
-    const double a = f.angle.empty() ? 0.0 : f.angle[i];
-    const double co = std::cos(a), so = std::sin(a);
-    n[0] = (co * dx[0] + so * dx[1]) / r;
-    n[1] = (-so * dx[0] + co * dx[1]) / r;
+    n[0] = (t.co * dx[0] + t.so * dx[1]) / r;
+    n[1] = (-t.so * dx[0] + t.co * dx[1]) / r;
     n[2] = dx[2] / r;
     return r;
 }
 
+/// a * a = p + e exactly (Dekker's product with Veltkamp's split, no FMA; |a| in [2^-400, 2^500]).
+void two_square(double a, double& p, double& e) {
+    p = a * a;
+    const double t = 134217729.0 * a; // 2^27 + 1
+    const double hi = t - (t - a), lo = a - hi;
+    e = ((hi * hi - p) + 2.0 * hi * lo) + lo * lo;
+}
+
 } // namespace
+
+double pow4(double u) {
+    if (u == 0)
+        return 0.0;
+    double s, e, hi, r1;
+    two_square(u, s, e);   // u^2 = s + e
+    two_square(s, hi, r1); // s^2 = hi + r1
+    // u^4 = hi + lo + e^2 to within 2^-49 ulp(hi): |e| <= 2^-53 s, so e^2 < 2^-52 ulp, and the
+    // two roundings of lo are below 2^-50 ulp.
+    const double lo = r1 + 2.0 * s * e;
+    const double r = hi + lo;
+    const double d = lo - (r - hi); // hi + lo = r + d exactly (Fast2Sum, |lo| < 3 ulp(hi))
+    const auto bits = std::bit_cast<std::uint64_t>(r);
+    const double ulp = std::bit_cast<double>(bits & 0x7ff0000000000000ULL) * 0x1p-52;
+    // |u^4 - r| < 0.451 ulp: every other double is more than 0.549 ulp away (r not a power of 2:
+    // both neighbours are 1 ulp away), and std::pow (glibc >= 2.28: at most 0.54 ulp) must
+    // return r. Otherwise, and near underflow, ask std::pow itself.
+    if (r >= 0x1p-800 && (bits & 0xfffffffffffffULL) != 0 && std::abs(d) <= 0.45 * ulp)
+        return r;
+    return std::pow(u, 4);
+}
 
 std::array<double, 3> surface_axis_factors(const std::array<double, 3>& family, double bulk, int d,
                                            double limit) {
@@ -50,20 +93,41 @@ double surface_bond_factor(const double* n, const std::array<double, 3>& gi,
     return s > 0 ? 1.0 / std::sqrt(s) : 1.0;
 }
 
-std::vector<double> family_axis_moments(const FamilyRows& f, std::span<const double> weight, int d,
-                                        std::size_t n) {
+namespace {
+
+/// family_axis_moments with bond k's weight scaled by its factor G_k for the axis factors g (3 per
+/// node; empty: unscaled): the same products G_k w_k and sums in the same order as building the
+/// array G w first, without the two per-bond arrays and with one direction per bond.
+std::vector<double> scaled_axis_moments(const FamilyRows& f, std::span<const double> weight,
+                                        std::span<const double> g, int d, std::size_t n) {
     std::vector<double> out(3 * n, 0.0);
     for (std::size_t a = 0; a < f.rows.size(); ++a) {
         const auto i = static_cast<std::size_t>(f.rows[a]);
+        const Turn t = row_turn(f, i);
+        std::array<double, 3> gi{1, 1, 1};
+        if (!g.empty())
+            gi = {g[3 * i], g[3 * i + 1], g[3 * i + 2]};
         for (auto k = f.offsets[a]; k < f.offsets[a + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
+            const auto j = static_cast<std::size_t>(f.neighbor[kk]);
             double u[3];
-            direction(f, i, static_cast<std::size_t>(f.neighbor[kk]), u);
+            direction(f, t, i, j, u);
+            const double w =
+                g.empty() ? weight[kk]
+                          : surface_bond_factor(u, gi, {g[3 * j], g[3 * j + 1], g[3 * j + 2]}, d) *
+                                weight[kk];
             for (int c = 0; c < d; ++c)
-                out[3 * i + static_cast<std::size_t>(c)] += weight[kk] * std::pow(u[c], 4);
+                out[3 * i + static_cast<std::size_t>(c)] += w * pow4(u[c]);
         }
     }
     return out;
+}
+
+} // namespace
+
+std::vector<double> family_axis_moments(const FamilyRows& f, std::span<const double> weight, int d,
+                                        std::size_t n) {
+    return scaled_axis_moments(f, weight, {}, d, n);
 }
 
 std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const double> g, int d) {
@@ -71,11 +135,12 @@ std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const do
     for (std::size_t a = 0; a < f.rows.size(); ++a) {
         const auto i = static_cast<std::size_t>(f.rows[a]);
         const std::array<double, 3> gi{g[3 * i], g[3 * i + 1], g[3 * i + 2]};
+        const Turn t = row_turn(f, i);
         for (auto k = f.offsets[a]; k < f.offsets[a + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
             const auto j = static_cast<std::size_t>(f.neighbor[kk]);
             double u[3];
-            direction(f, i, j, u);
+            direction(f, t, i, j, u);
             out[kk] = surface_bond_factor(u, gi, {g[3 * j], g[3 * j + 1], g[3 * j + 2]}, d);
         }
     }
@@ -98,15 +163,11 @@ std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const do
         }
         exchange(to);
     };
-    std::vector<double> ones(3 * n, 1.0), gw(weight.size());
+    std::vector<double> ones(3 * n, 1.0);
     update(ones, g);
     g = ones;
-    for (int it = 0; it < iterations; ++it) {
-        const auto G = surface_bond_factors(f, g, d);
-        for (std::size_t k = 0; k < gw.size(); ++k)
-            gw[k] = G[k] * weight[k];
-        update(g, family_axis_moments(f, gw, d, n));
-    }
+    for (int it = 0; it < iterations; ++it) // the moments weighted by the bond factors of g
+        update(g, scaled_axis_moments(f, weight, g, d, n));
     return surface_bond_factors(f, g, d);
 }
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "solver/stability.hpp"
 
+#include "core/errors.hpp"
+#include "solver/bond_kernels.hpp"
 #include "solver/contact.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -32,6 +34,7 @@ class BondOperator {
         , b_(b)
         , law_(law)
         , dom_(dom) {
+        PD_CHECK(b.kb.size() == b.xi.size(), "bond_constants before the stability estimate");
         const std::size_t n = s.n;
         scale_.assign(n, 0.0);
         for (auto row : s.rows) {
@@ -88,7 +91,10 @@ class BondOperator {
         for (std::size_t a = 0; a < nr; ++a) {
             const auto i = static_cast<std::size_t>(s_.rows[a]);
             double f[3] = {0, 0, 0};
-            if (scale_[i] > 0)
+            const auto body = static_cast<std::size_t>(s_.body[i]);
+            if (scale_[i] > 0 && !law_.rnp[body] && !law_.lps[body])
+                pmb_row_force(a, i, body, f);
+            else if (scale_[i] > 0)
                 row_force(a, i, f);
             // Nodal force V_i f_i, scaled by D^-1/2; minus: K = -df/du is positive.
             const double sc = -vol[i] * scale_[i];
@@ -170,6 +176,58 @@ class BondOperator {
             f[2] += t * e[2];
         }
     }
+    /// The force density f of the PMB row a (node i of `body`): row_force's operations on each
+    /// bond (dir, proj, pair_stiffness), two bonds at a time in SSE2 lanes. Lanes round square
+    /// roots, divisions and products as the scalar code does, and the sums into f run bond by
+    /// bond in the same order, so the same bits, for half the square roots and divisions issued
+    /// (the divider bounds this loop).
+    void pmb_row_force(std::size_t a, std::size_t i, std::size_t body, double f[3]) const {
+        auto k = b_.offsets[a];
+        const auto end = b_.offsets[a + 1];
+#if defined(__SSE2__)
+        using V = __m128d;
+        const double* X = s_.x.data();
+        const double* w = w_.data();
+        const V xi[3] = {_mm_set1_pd(X[3 * i]), _mm_set1_pd(X[3 * i + 1]),
+                         _mm_set1_pd(X[3 * i + 2])};
+        const V wi[3] = {_mm_set1_pd(w[3 * i]), _mm_set1_pd(w[3 * i + 1]),
+                         _mm_set1_pd(w[3 * i + 2])};
+        for (; k + 1 < end; k += 2) {
+            const auto ka = static_cast<std::size_t>(k);
+            const index_t ja = b_.neighbor[ka], jb = b_.neighbor[ka + 1];
+            V d[3], dw[3];
+            kernels::gather2(X, ja, jb, xi, d);
+            kernels::gather2(w, ja, jb, wi, dw);
+            const V l = kernels::length(d);
+            for (auto& c : d)
+                c = _mm_div_pd(c, l);
+            const V de = _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], dw[0]), _mm_mul_pd(d[1], dw[1])),
+                                    _mm_mul_pd(d[2], dw[2]));
+            const V t =
+                _mm_mul_pd(_mm_set_pd(pmb_stiffness(ka + 1, static_cast<std::size_t>(jb), body),
+                                      pmb_stiffness(ka, static_cast<std::size_t>(ja), body)),
+                           de);
+            for (int c = 0; c < 3; ++c) {
+                const V te = _mm_mul_pd(t, d[c]);
+                f[c] += kernels::lane0(te);
+                f[c] += kernels::lane1(te);
+            }
+        }
+#endif
+        for (; k < end; ++k) { // the odd last bond (every bond without SSE2)
+            const auto kk = static_cast<std::size_t>(k);
+            const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
+            double e[3], l;
+            dir(i, j, e, l);
+            const double t = pmb_stiffness(kk, j, body) * proj(i, j, e);
+            for (std::size_t c = 0; c < 3; ++c)
+                f[c] += t * e[c];
+        }
+    }
+    /// A PMB bond's stiffness: pair_stiffness(...) = pmb_stiffness(...) de.
+    double pmb_stiffness(std::size_t kk, std::size_t j, std::size_t body) const {
+        return b_.alive[kk] ? b_.kb[kk] : std::max(law_.krep[body] * s_.vol[j], b_.kb[kk]);
+    }
     /// The bond's force for the relative displacement de along it (PMB, LPS, or the broken-bond
     /// repulsion).
     double pair_stiffness(std::size_t i, std::size_t j, std::size_t kk, std::size_t body,
@@ -182,7 +240,7 @@ class BondOperator {
             // (bonds may still break during the run).
             double k_pair = law_.krep[body] * vol[j];
             if (!law_.lps[body])
-                k_pair = std::max(k_pair, law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk]);
+                k_pair = std::max(k_pair, b_.kb[kk]);
             return k_pair * de;
         }
         if (law_.lps[body]) {
@@ -196,7 +254,9 @@ class BondOperator {
                                                     (de - dth_[j] * xi / dd - dq_[j] * xi));
             return (t_ij + t_ji) * b_.beta[kk] * vol[j];
         }
-        return law_.c[body] * b_.stiff[kk] * vol[j] / b_.xi[kk] * de;
+        // kb = c stiff V_j / xi, evaluated in this order by bond_constants: the same bits as
+        // the expression, without its division per bond and Lanczos step.
+        return b_.kb[kk] * de;
     }
 
   public:
@@ -209,7 +269,9 @@ class BondOperator {
         return dom_.sum(sum);
     }
 
-    void exchange(std::vector<double>& x) { dom_.exchange({&x}, 3); }
+    void exchange(std::vector<double>& x) {
+        dom_.exchange({&x}, 3);
+    }
 
   private:
     const State& s_;
