@@ -49,7 +49,8 @@ def main():
     a = ap.parse_args()
     for path, n, layers, seed in ((a.quick, 3, 3, 1), (a.full, 5, 5, 2)):
         rows = lattice(n, layers, seed)
-        write_csv(path, rows, "oedometer_3d: %d x %d x %d large grains + the body-centred small ones, seed %d (grains.py)"
+        write_csv(path, rows, "oedometer_3d: %d x %d x %d large grains and the small ones at "
+                  "the body centres, seed %d (grains.py)"
                   % (n, n, layers, seed))
         big = sum(r[3] == R_LARGE for r in rows)
         cub = sum(r[5] == 1 for r in rows)
