@@ -81,6 +81,7 @@ def test_penetration_warn_runs_on_as_peridem_decks_do(tmp_path):
     assert r.returncode == 0, r.stdout + r.stderr
     assert r.stderr.count("grains interpenetrate at step") == 1, r.stderr
     assert "solver.penetration: warn" in r.stderr
+    assert "last frame" not in r.stderr  # nothing is flagged, and the warning does not say so
     with h5py.File(f, "r") as h:
         assert h["solver/penetration_warns"][()] == 1
         nodes = h["particles/nodes"]

@@ -300,9 +300,11 @@ class Guards final : public Action {
     /// A node inside a grain or beyond a wall: stop (exit 3), or under solver.penetration "warn"
     /// (PeriDEM decks) say it once and go on. `o.inside_pairs` and `o.beyond_wall` are reduced
     /// over the ranks, so every rank takes the same branch.
-    void breach(Run& r, std::int64_t n, const char* kind, const std::string& why) {
+    /// `on_stop` is what the stop adds (the flagged last frame); a warning has none.
+    void breach(Run& r, std::int64_t n, const char* kind, const std::string& why,
+                const char* on_stop) {
         if (!r.m.solver.penetration_warns)
-            stop_with_row(r, n, kind, why);
+            stop_with_row(r, n, kind, why + on_stop);
         warned_ = true;
         r.ctx.log.warn("{} (solver.penetration: warn, as PeriDEM decks run: the run goes on and "
                        "later ones are not reported)",
@@ -404,14 +406,14 @@ void Guards::inside(Run& r, std::int64_t n) {
                        "failed: a node passed between the few nodes within R_c of it (README "
                        "\"Tunnelling and the contact radius\": a stiffer K_n alone does not stop "
                        "it). Give the grains' contact a radius of 3 mesh sizes "
-                       "(contact \"radius_mesh_factor\": 3) or slow the loading or impact. The "
-                       "state at this step is the last frame (flagged: /particles/nodes attribute "
-                       "failed_step), the frames before stay valid; --no-penetration-check runs on",
+                       "(contact \"radius_mesh_factor\": 3) or slow the loading or impact",
                        r.opt.file, n, r.s.state().time, o.inside_pairs,
                        o.inside_node >= 0 ? fmt::format(" (node {} of body {} inside body {})",
                                                         o.inside_node, o.inside_body, o.inside_of)
                                           : std::string{},
-                       numbers));
+                       numbers),
+           ". The state at this step is the last frame (flagged: /particles/nodes attribute "
+           "failed_step), the frames before stay valid; --no-penetration-check runs on");
 }
 
 void Guards::beyond_wall(Run& r, std::int64_t n) {
@@ -422,18 +424,17 @@ void Guards::beyond_wall(Run& r, std::int64_t n) {
            fmt::format("{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
                        "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
                        "too soft for this impact (raise contact.stiffness_factor, lower the "
-                       "speed); the state at this step is the last frame (flagged), the frames "
-                       "before stay in the file (--no-penetration-check runs on)",
+                       "speed)",
                        r.opt.file, n, r.s.state().time, o.beyond_wall,
                        o.beyond_node >= 0
                            ? fmt::format(" (node {} of body {}, wall {})", o.beyond_node,
                                          r.s.state().body[static_cast<std::size_t>(o.beyond_node)],
                                          o.beyond_wall_index)
-                           : std::string{}));
+                           : std::string{}),
+           "; the state at this step is the last frame (flagged), the frames before stay in "
+           "the file (--no-penetration-check runs on)");
 }
 
-/// Energy balance: energy created (an instability, even one that fracture then absorbs) or lost
-/// without account shows up here long before 100x.
 /// Velocity Verlet's full-step energy KE(v_n) + U(x_n) is not the energy it conserves: v_n
 /// carries half a kick dt F_n / (2 m) that no work has paid for yet, so the balance can sit off
 /// by sum |F_i|^2 dt^2 / (8 m_i) at any step (and by as much at its reference). Where nothing else
@@ -459,6 +460,8 @@ double kick_energy(const Run& r) {
     return e;
 }
 
+/// Energy balance: energy created (an instability, even one that fracture then absorbs) or lost
+/// without account shows up here long before 100x.
 void Guards::balance(Run& r, std::int64_t n) {
     const auto& o = r.last_obs;
     in_play_ = std::max(in_play_, solver::energy_in_play(o));
