@@ -30,11 +30,11 @@ CHECK_RUN = $(PY) $(ANALYSIS)/check_run.py
 
 # $(eval $(call pd_solved,FILE.h5,SCENE,PACK_ARGS,SOLVE_ARGS)): FILE.h5 packed from SCENE and
 # solved (pd-solve's errors fail the target, exit 3 of a guard included); the file appears only
-# once the solve succeeded.
+# once the solve succeeded (a failed run stays in FILE.h5.packed until the next make redoes it).
 define pd_solved
 $(1): $(2) $$(TOOLS)
 	@mkdir -p $$(dir $$@)
-	$$(BIN)/pd-pack $$< -o $$@.packed -q $(3)
+	$$(BIN)/pd-pack $$< -o $$@.packed -q --overwrite $(3)
 	$$(SOLVE) $$@.packed -q $(4)
 	mv $$@.packed $$@
 endef

@@ -85,7 +85,10 @@ class ContactList {
     /// half their bonds, refreshed at each rebuild); may be null (every node counts as whole).
     bool update(State& s, const Domain& dom, const BondData* b = nullptr);
     /// The next update() rebuilds (after a change of ownership).
-    void invalidate() { built_ = false; }
+    void invalidate() {
+        built_ = false;
+        touched_known_ = false; // rows may have changed ranks: no history (surface_row)
+    }
     /// Appends the candidates owned by other ranks (ghosts the contact forces read).
     void ghosts(std::vector<index_t>& out) const;
     /// Adds normal contact force densities to s.f; returns the number of node pairs in contact
@@ -128,6 +131,15 @@ class ContactList {
     void facet_spheres(const State& s, bool torn_flag) const;
     struct Event;
     struct Best;
+    /// Node i at depth d behind `facet` of `body`: within the motion since the last evaluation
+    /// (four times the fastest of i and the facet's vertices times the time since, plus twice
+    /// the law's onset) of its depth then (0 when it was not inside; surface_history.cpp).
+    bool depth_continuous(std::size_t i, std::int32_t body, std::int32_t facet, double onset,
+                          double d, const State& s) const;
+    /// touched_ from this evaluation's events, at `time` (surface_history.cpp).
+    void remember_depths(double time) const;
+    void closest_facets(std::size_t a, std::size_t i, const State& s,
+                        std::vector<Best>& best) const;
     struct Sums {
         std::int64_t touching = 0, inside = 0, first_node = -1;
         std::int32_t first_body = -1;
@@ -184,10 +196,24 @@ class ContactList {
         double w[3];        ///< barycentric weights of the closest point
         double force[3];    ///< on i, N
         double energy;      ///< J
+        double depth;       ///< m, |p - y_i|
         bool deep;          ///< more than h / 2 inside (the guard's failure)
+    };
+    struct Touched {
+        index_t i;
+        std::int32_t body;
+        double depth;
+        bool operator<(const Touched& o) const { return i != o.i ? i < o.i : body < o.body; }
     };
     mutable std::vector<Event> events_;
     mutable std::vector<double> sphere_; ///< per facet, this evaluation: centroid, reach
+    /// (node, body it is inside, depth) of the last evaluation's events, sorted: a pair's depth
+    /// grows by at most what its nodes moved since (depth_continuous), and a pair not among
+    /// them enters from the boundary. Known from the second evaluation on after a start,
+    /// restart or change of ownership.
+    mutable std::vector<Touched> touched_;
+    mutable bool touched_known_ = false;
+    mutable double touched_time_ = 0; ///< s, the time of touched_
 };
 
 } // namespace pd::solver

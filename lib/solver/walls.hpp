@@ -42,12 +42,14 @@ struct WallLoad {
     std::vector<double> force;  ///< 3 per wall, N (2D: per unit thickness), received by the wall
     std::vector<double> moment; ///< 3 per wall, N m, about the wall's current rotation centre
     std::int64_t touching = 0;  ///< node-wall pairs in contact
-    double energy = 0;          ///< J, wall springs 1/2 Kn (R_c - d)^2 V_i^2
+    double energy = 0;          ///< J, wall springs (node law 1/2 Kn (R_c - d)^2 V_i^2)
     /// J: the correction of the trapezoidal wall work of the last step for the node-wall pairs
-    /// that came into contact during it: their spring energy (the work of the wall that moved
-    /// into them, exactly, the nodes' motion within the step aside) less the trapezoid's share
-    /// dt/2 F . v_wall. The trapezoid alone over-counts first contacts by v_wall dt / overlap
-    /// (a plate onto a grain at rest: 1.8-4 x at the first contact step).
+    /// that came into contact during it, or that were within the surface law's onset (the first
+    /// 0.01 h, where the force is quadratic in the depth) at its start: the change of their
+    /// spring energy as the wall moved (the work of the wall that moved into them, exactly, the
+    /// nodes' motion within the step aside) less the trapezoid's share dt/2 (F + F_before) .
+    /// v_wall. The trapezoid alone over-counts first contacts by v_wall dt / overlap (a plate
+    /// onto a grain at rest: 1.8-4 x at the first contact step).
     double work = 0;
     /// Nodes more than h/2 (their body's mesh size) beyond a wall's surface: contact failed
     /// (pd-solve stops, exit 3); one of them and its wall (-1: none).

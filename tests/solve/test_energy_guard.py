@@ -2,13 +2,16 @@
 # SPDX-License-Identifier: MIT
 """The energy guard at a grain's first contact with a moving plate (issue 26 item 6; seen by the
 grain_crushing example, which had to start its platens touching). Velocity Verlet's full-step
-energy carries half a kick dt F / (2 m) not yet paid for by work, up to sum |F|^2 dt^2 / (8 m):
-at the first contact steps that is most of the energy in play (6 % at half the automatic dt, 15 %
-at the automatic one), and the guard (5 %) stopped such runs. It now allows that much, up to the
-contact energy, on top of its tolerance; a dt above the limit is still stopped (and so is the
-limit itself: 18 % at step 7, when the energy has left the contact for the bonds)."""
+energy carries half a kick dt F / (2 m) not yet paid for by work, up to sum |F|^2 dt^2 / (8 m);
+with the surface law's stiffness jumping from 0 to c at contact that was most of the energy in play
+at the first contact steps (5.9 % at half the automatic dt, 15.2 % at the automatic one) and the
+guard (5 %) stopped such runs. The guard allows that much, up to the contact energy, on top of its
+tolerance. Since the law's C1 onset (solver/surface_penalty.hpp; the wall's work in the onset
+counted exactly, walls.hpp WallLoad::work) the drift is 0.46 % / 1.3 %: within the tolerance
+itself. A dt above the limit is still stopped."""
 import json
 import os
+import re
 import subprocess
 
 import h5py
@@ -53,17 +56,19 @@ def drift(f):
     return rel.max(), rel[-1]
 
 
-@pytest.mark.parametrize("safety, first", [(0.5, 0.059), (0.85, 0.152)])
-def test_first_contact_with_a_moving_plate_passes_the_guard(tmp_path, safety, first):
+@pytest.mark.parametrize("safety", [0.5, 0.85])
+def test_first_contact_with_a_moving_plate_passes_the_guard(tmp_path, safety):
     r, f = solve(tmp_path, dt_safety=safety)
     assert r.returncode == 0, r.stderr
     worst, last = drift(f)
-    assert worst == pytest.approx(first, abs=0.01)  # the half kick, above the 5 % tolerance
+    assert worst < 0.02  # measured 0.0046 / 0.013 (without the onset 0.059 / 0.152)
     assert last < 1e-4  # and the balance closes once the contact has built up
 
 
 def test_a_step_above_the_limit_is_still_stopped(tmp_path):
-    """1.28x the stability limit (8.607e-7 s): the drift outgrows the half kick within 5 steps."""
+    """1.28x the stability limit (8.607e-7 s): the drift outgrows the allowance within 20 steps
+    (step 14, 63 % of the energy in play)."""
     r, _ = solve(tmp_path, dt=1.1e-6, dt_above_estimate="warn")
     assert r.returncode == 3, r.stderr
-    assert "energy balance broken at step 5" in r.stderr, r.stderr
+    m = re.search(r"energy balance broken at step (\d+)", r.stderr)
+    assert m and int(m.group(1)) <= 20, r.stderr
