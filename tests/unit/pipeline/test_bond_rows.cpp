@@ -3,6 +3,7 @@
 // whole list, and a Solver built from them equals one built from the whole model.
 #include "h5/file.hpp"
 #include "pipeline/scene.hpp"
+#include "solver/bond_forces.hpp"
 #include "solver/solver.hpp"
 #include "store/model_io.hpp"
 
@@ -47,7 +48,7 @@ TEST(BondRows, PartialReadEqualsTheRowsOfTheWholeList) {
     // bond data, surface factors and LPS weighted volumes included.
     solver::Solver a(whole), b(part, nullptr, store::read_bond_rows(f, part, {{0, n}}));
     EXPECT_EQ(a.bonds().neighbor, b.bonds().neighbor);
-    EXPECT_EQ(a.bonds().stiff, b.bonds().stiff);
+    EXPECT_EQ(a.bonds().kb, b.bonds().kb);
     EXPECT_EQ(a.bonds().omega, b.bonds().omega);
     EXPECT_EQ(a.stable_dt().limit, b.stable_dt().limit);
     a.set_dt(1e-7);
@@ -83,7 +84,12 @@ TEST(BondRows, SurfaceCorrectionLeavesAFixedLpsBodyAlone) {
     for (std::size_t i = 0; i + 1 < b.offsets.size(); ++i)
         for (auto k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
-            const bool scaled = b.stiff[kk] != b.beta[kk];
+            // kb = c beta G V_j / xi: G = 1 where kb is that of beta alone
+            const auto body = static_cast<std::size_t>(model.nodes.body[i]);
+            const double c = a.bond_law().c[body],
+                         vj = a.state().vol[static_cast<std::size_t>(b.neighbor[kk])];
+            const bool scaled =
+                b.kb[kk] != c * solver::bond_beta(b, a.bond_law(), body, kk) * vj / b.xi[kk];
             if (model.nodes.body[i] == 1) {
                 ++fixed_bonds;
                 fixed_scaled += scaled;
