@@ -315,6 +315,8 @@ std::vector<model::index_t> read_bond_rows(const h5::File& f, const model::Model
         }
     }
     require_range<std::int32_t>(f, p, out, 0, static_cast<std::int32_t>(m.nodes.num()));
+    if (runs.size() == 1 && runs[0][0] == 0 && runs[0][1] == m.nodes.num())
+        detail::check_bond_pairs(f, m.bonds.offsets, out); // the whole list: as read_model
     return out;
 }
 
