@@ -130,8 +130,10 @@ std::vector<double> family_axis_moments(const FamilyRows& f, std::span<const dou
     return scaled_axis_moments(f, weight, {}, d, n);
 }
 
-std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const double> g, int d) {
-    std::vector<double> out(f.neighbor.size(), 1.0);
+namespace {
+/// The bond factors of g into out (one per bond).
+void bond_factors_into(const FamilyRows& f, std::span<const double> g, int d,
+                       std::span<double> out) {
     for (std::size_t a = 0; a < f.rows.size(); ++a) {
         const auto i = static_cast<std::size_t>(f.rows[a]);
         const std::array<double, 3> gi{g[3 * i], g[3 * i + 1], g[3 * i + 2]};
@@ -144,10 +146,16 @@ std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const do
             out[kk] = surface_bond_factor(u, gi, {g[3 * j], g[3 * j + 1], g[3 * j + 2]}, d);
         }
     }
+}
+} // namespace
+
+std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const double> g, int d) {
+    std::vector<double> out(f.neighbor.size(), 1.0);
+    bond_factors_into(f, g, d, out);
     return out;
 }
 
-std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const double> weight, int d,
+std::vector<double> surface_bond_factors(const FamilyRows& f, std::vector<double> weight, int d,
                                          std::size_t n,
                                          const std::function<void(std::vector<double>&)>& exchange,
                                          int iterations) {
@@ -168,7 +176,9 @@ std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const do
     g = ones;
     for (int it = 0; it < iterations; ++it) // the moments weighted by the bond factors of g
         update(g, scaled_axis_moments(f, weight, g, d, n));
-    return surface_bond_factors(f, g, d);
+    std::fill(weight.begin(), weight.end(), 1.0); // the factors in the weights' place
+    bond_factors_into(f, g, d, weight);
+    return weight;
 }
 
 } // namespace pd::model

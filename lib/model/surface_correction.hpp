@@ -83,8 +83,9 @@ std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const do
 /// -0.16 % from h = 0.2 mm on (PMB), 1 converges monotonically (+1.06, +0.47, +0.15 %) and
 /// takes a 3D bar from +1.85 to +0.73 % at h = 0.2 mm; more iterations do not settle (the
 /// factors of neighbours interact through gbar) and move the 2D errors away again.
-/// `exchange` sets the ghosts' g (3 per node) from their owners (a no-op on one rank).
-std::vector<double> surface_bond_factors(const FamilyRows& f, std::span<const double> weight, int d,
+/// `exchange` sets the ghosts' g (3 per node) from their owners (a no-op on one rank). The
+/// factors are returned in the storage of `weight` (move it in: no second per-bond array).
+std::vector<double> surface_bond_factors(const FamilyRows& f, std::vector<double> weight, int d,
                                          std::size_t n,
                                          const std::function<void(std::vector<double>&)>& exchange,
                                          int iterations);

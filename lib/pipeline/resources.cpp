@@ -14,11 +14,16 @@ namespace pd::pipeline {
 
 namespace {
 
-/// Bytes per node and per bond of a packed model held in memory (pd-pack builds the bond lists,
-/// pd-solve adds state): positions, velocities, forces, volumes and per-node state, about 40
-/// doubles; a bond stores its neighbour, reference length, state and the CSR copy, about 40 B.
-constexpr double bytes_per_node = 320;
-constexpr double bytes_per_bond = 40;
+/// pd-solve's peak memory at one rank (the most a run of the scene needs; pd-pack needs less),
+/// fitted to /usr/bin/time's maximum RSS of `pd-solve --steps 1` on PMB grid blocks (3D) and
+/// plates (2D) of 0.13-2.0 M nodes and 22-84 M bonds (workflows/bench/RESULTS.md, issue 29
+/// item 3): base_bytes + bytes_per_node per node + bytes_per_bond per bond entry (i-j and j-i
+/// both), within 1 % of each. A bond of an LPS or RNP body costs more (its influence and
+/// partial volume, and the kernels' work arrays per bond), measured on LPS blocks the same way.
+constexpr double base_bytes = 60e6;
+constexpr double bytes_per_node = 385;
+constexpr double bytes_per_bond = 22;
+constexpr double bytes_per_state_bond = 63;
 
 std::string human_bytes(double b) {
     const char* unit[] = {"B", "KB", "MB", "GB", "TB", "PB"};
@@ -37,12 +42,22 @@ double bonds_per_node(double ratio, int dimension) {
                           : std::numbers::pi * ratio * ratio;
 }
 
-ResourceEstimate estimate_resources(double nodes, int dimension) {
-    const double per_node = bonds_per_node(3, dimension); // horizon 3 h, the usual one
+double family_reach(double ratio) {
+    return ratio + 0.5;
+}
+
+double solve_peak_bytes(double nodes, double bonds, bool state_based) {
+    return base_bytes + nodes * bytes_per_node +
+           bonds * (state_based ? bytes_per_state_bond : bytes_per_bond);
+}
+
+ResourceEstimate estimate_resources(double nodes, int dimension, bool state_based) {
+    // horizon 3 h, the usual one; families to delta + h/2
+    const double per_node = bonds_per_node(family_reach(3), dimension);
     ResourceEstimate e;
     e.nodes = nodes;
     e.bonds = nodes * per_node;
-    e.bytes = nodes * bytes_per_node + e.bonds * bytes_per_bond;
+    e.bytes = solve_peak_bytes(nodes, e.bonds, state_based);
     return e;
 }
 
@@ -60,21 +75,21 @@ double available_memory() {
     return pages > 0 && size > 0 ? static_cast<double>(pages) * static_cast<double>(size) : 0;
 }
 
-double default_max_nodes(int dimension) {
+double default_max_nodes(int dimension, bool state_based) {
     const double avail = available_memory();
     if (!(avail > 0))
         return 2e7;
-    const double per_node = estimate_resources(1, dimension).bytes;
-    return std::max(1e5, std::floor(avail / per_node));
+    const double per_node = estimate_resources(1, dimension, state_based).bytes - base_bytes;
+    return std::max(1e5, std::floor((avail - base_bytes) / per_node));
 }
 
-void check_node_budget(double nodes, double max_nodes, int dimension, const std::string& key,
-                       const std::string& what) {
+void check_node_budget(double nodes, double max_nodes, int dimension, bool state_based,
+                       const std::string& key, const std::string& what) {
     const bool by_memory = !(max_nodes > 0);
-    const double limit = by_memory ? default_max_nodes(dimension) : max_nodes;
+    const double limit = by_memory ? default_max_nodes(dimension, state_based) : max_nodes;
     if (nodes <= limit)
         return;
-    const auto e = estimate_resources(nodes, dimension);
+    const auto e = estimate_resources(nodes, dimension, state_based);
     const std::string why =
         by_memory ? fmt::format("the default, what fits in the {} of memory available now",
                                 human_bytes(available_memory()))
@@ -87,13 +102,13 @@ void check_node_budget(double nodes, double max_nodes, int dimension, const std:
 }
 
 void check_bond_budget(double nodes, double bonds, double max_nodes, int dimension,
-                       const std::string& key, const std::string& what) {
+                       bool state_based, const std::string& key, const std::string& what) {
     const bool by_memory = !(max_nodes > 0);
-    const double limit_nodes = by_memory ? default_max_nodes(dimension) : max_nodes;
-    const double limit = limit_nodes * bonds_per_node(3, dimension);
+    const double limit_nodes = by_memory ? default_max_nodes(dimension, state_based) : max_nodes;
+    const double limit = limit_nodes * bonds_per_node(family_reach(3), dimension);
     if (bonds <= limit)
         return;
-    const double bytes = nodes * bytes_per_node + bonds * bytes_per_bond;
+    const double bytes = solve_peak_bytes(nodes, bonds, state_based);
     throw ConfigError(key, fmt::format("{} is estimated at {:.3g} nodes and {:.3g} bonds ({} of "
                                        "memory), above the limit of {:.3g} bonds ({:.3g} nodes "
                                        "at horizon 3 h, {}): a smaller horizon or coarser "

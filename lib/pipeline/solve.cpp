@@ -87,7 +87,8 @@ std::unique_ptr<solver::Domain> ranks_domain(const h5::File& rf, const model::Mo
 }
 
 /// Phase 1, every rank: the model (and the checkpoint, with --set's changes) read-only; every
-/// rank raises the same errors. Under MPI without the bond list, then this rank's rows of it.
+/// rank raises the same errors. The model without its neighbour lists, then this rank's rows
+/// of them (all rows on one rank).
 Input open(const SolveOptions& opt, Context& ctx) {
     const bool par = ctx.size > 1;
     // Every check comes before the file is changed: a refused run leaves it byte for byte.
@@ -99,7 +100,9 @@ Input open(const SolveOptions& opt, Context& ctx) {
                                      opt.file, std::strerror(errno)));
     Input in;
     h5::File rf(opt.file, h5::Mode::read);
-    in.m = store::read_model(rf, !par); // refuses a file it cannot read, untouched
+    // Without the neighbour lists: the solver keeps this rank's rows, read below (one copy of
+    // them, not two, at one rank too: 4 bytes per bond).
+    in.m = store::read_model(rf, false); // refuses a file it cannot read, untouched
     if (!opt.restart && !opt.overwrite)
         refuse_existing_results(rf, opt.file);
     if (opt.restart) {
@@ -112,10 +115,11 @@ Input open(const SolveOptions& opt, Context& ctx) {
                                          opt.file));
         ctx.run.overrides = apply_restart_changes(in.m, opt.sets, in.ck->u, in.ck->time, opt.file);
     }
-    if (par) {
+    if (par)
         in.dom = ranks_domain(rf, in.m, opt, ctx);
-        in.row_neighbors = store::read_bond_rows(rf, in.m, in.dom->runs());
-    }
+    in.row_neighbors = store::read_bond_rows(
+        rf, in.m,
+        par ? in.dom->runs() : std::vector<std::array<std::uint64_t, 2>>{{0, in.m.nodes.num()}});
     if (opt.final_time_given)
         in.m.solver.final_time = opt.final_time;
     return in;

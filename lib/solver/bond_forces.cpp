@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solver/bond_forces.hpp"
 
+#include "core/errors.hpp"
 #include "model/flaws.hpp"
 #include "solver/bond_kernels.hpp"
 
@@ -30,7 +31,7 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
     const offset_t* off = b.offsets.data();
     const index_t* nb = b.neighbor.data();
     const double* xi = b.xi.data();
-    const double* beta = b.stiff.data();
+    const double* kb = b.kb.data(); // c beta G V_j / xi: the stiffness the loop once built
     std::uint8_t* alive = b.alive.data();
     double energy = 0;
     std::int64_t broken = 0;
@@ -39,7 +40,7 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         if (law.lps[body] || law.rnp[body] || !s.moving[static_cast<std::size_t>(i)])
             continue;
-        const double c = law.c[body], s0 = law.s0[body];
+        const double s0 = law.s0[body];
         double fi[3] = {0, 0, 0}, e_i = 0;
         for (offset_t k = off[a]; k < off[a + 1]; ++k) {
             const index_t j = nb[k];
@@ -54,12 +55,12 @@ BondResult naive_kernel(State& s, BondData& b, const BodyLaw& law) {
                 ++broken;
                 continue;
             }
-            const double w = beta[k] * vol[j];
-            const double a = c * st * w / l;
+            const double w = kb[k] * xi[k]; // c beta V_j, to rounding
+            const double a = st * w / l;
             fi[0] += a * d0;
             fi[1] += a * d1;
             fi[2] += a * d2;
-            e_i += c * st * st * xi[k] * w;
+            e_i += st * st * xi[k] * w;
         }
         f[3 * i] = fi[0];
         f[3 * i + 1] = fi[1];
@@ -161,7 +162,7 @@ template <bool Breakable, bool Energy, bool Comp>
     double fi[3] = {0, 0, 0};
     double e_i = 0, e_rel = 0, e_rep = 0;
     const double kr = law.krep[body], rr = law.rrep[body];
-    const double lo = Comp ? law.s0_lo[body] : 0.0;
+    const double lo = Comp ? law.s0_lo[body] : 0.0, hi = 1.0 + law.s0[body];
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
         const index_t j = v.nb[k];
         double d[3];
@@ -178,7 +179,7 @@ template <bool Breakable, bool Energy, bool Comp>
             continue;
         }
         const double ext = l - v.xi[k];
-        if (Breakable && (l > v.lc[k] || (Comp && l < v.xi[k] * lo))) {
+        if (Breakable && (l > break_length(v, k, hi) || (Comp && l < v.xi[k] * lo))) {
             // Tension (and, when Comp, compression beyond xi (1 - s0), PeriDEM's |s| > s0);
             // i->j and j->i see identical l, xi and body: symmetric. The energy it held,
             // less half the work its force would have done over the step that broke it: the
@@ -394,10 +395,14 @@ void flaw_row(const State& s, BondData& b, const BodyLaw& law, std::size_t a, st
 
 } // namespace
 
-void bond_constants(const State& s, BondData& b, BodyLaw& law) {
+void bond_constants(const State& s, BondData& b, BodyLaw& law, std::vector<double> stiff) {
     const auto nbond = b.xi.size();
-    b.kb.resize(nbond);
-    b.lc.resize(nbond);
+    if (stiff.empty())
+        stiff = b.beta;
+    PD_CHECK(stiff.size() == nbond, "bond_constants: a stiffness factor per bond");
+    b.kb.clear(); // stiff becomes kb in place
+    b.kb.shrink_to_fit();
+    b.lc.assign(law.any_flaws ? nbond : 0, 0.0);
     b.wv.assign(b.omega.empty() ? 0 : nbond, 0.0);
     b.len.assign(b.wv.size(), 0.0);
     b.inv_len.assign(b.wv.size(), 0.0);
@@ -408,15 +413,17 @@ void bond_constants(const State& s, BondData& b, BodyLaw& law) {
         for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
             const double vj = s.vol[static_cast<std::size_t>(b.neighbor[kk])];
-            b.kb[kk] = law.c[body] * b.stiff[kk] * vj / b.xi[kk];
-            b.lc[kk] =
-                std::isfinite(s0) ? b.xi[kk] * (1.0 + s0) : std::numeric_limits<double>::infinity();
+            stiff[kk] = law.c[body] * stiff[kk] * vj / b.xi[kk];
+            if (law.any_flaws)
+                b.lc[kk] = std::isfinite(s0) ? b.xi[kk] * (1.0 + s0)
+                                             : std::numeric_limits<double>::infinity();
             if (!b.wv.empty())
                 b.wv[kk] = b.omega[kk] * b.beta[kk] * vj;
         }
         if (law.any_flaws)
             flaw_row(s, b, law, a, body);
     }
+    b.kb = std::move(stiff);
     if (law.m.size() != s.n)
         return; // no LPS body
     law.lps_ap.assign(2 * s.n, 0.0);
@@ -452,16 +459,18 @@ BondResult pmb_bond_forces_reference(State& s, BondData& b, const BodyLaw& law) 
     return law.any_breakable ? naive_kernel<true>(s, b, law) : naive_kernel<false>(s, b, law);
 }
 
-void damage_phi(const State& s, const BondData& b, std::vector<double>& phi) {
+void damage_phi(const State& s, const BondData& b, const BodyLaw& law, std::vector<double>& phi) {
     phi.assign(s.n, 0.0);
     const auto n = static_cast<std::int64_t>(s.rows.size());
     const index_t* rows = s.rows.data();
 #pragma omp parallel for schedule(static) if (n > parallel_min)
     for (std::int64_t a = 0; a < n; ++a) {
         const std::int64_t i = rows[a];
+        const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         double all = 0, br = 0;
         for (offset_t k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
-            const double w = b.beta[k] * s.vol[b.neighbor[k]];
+            const double w =
+                bond_beta(b, law, body, static_cast<std::size_t>(k)) * s.vol[b.neighbor[k]];
             all += w;
             if (!b.alive[k])
                 br += w;

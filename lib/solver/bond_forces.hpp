@@ -4,6 +4,7 @@
 // scenes.
 #pragma once
 
+#include "model/pmb.hpp"
 #include "solver/state.hpp"
 
 #include <functional>
@@ -40,12 +41,21 @@ BondResult lps_bond_forces(State& s, BondData& b, BodyLaw& law,
 /// Sets f = RNP force density of every node of a moving RNP body (spec 1.4, model/rnp.hpp).
 BondResult rnp_bond_forces(State& s, BondData& b, const BodyLaw& law);
 
-/// Fills the kernels' per-bond constants (b.kb, b.wv, b.lc) and the LPS per-node constants
-/// (law.lps_k, the A_i of law.lps_ap) from the per-body law and the per-bond factors. Call again
-/// whenever either changes; the kernels call it themselves when the sizes do not match.
-void bond_constants(const State& s, BondData& b, BodyLaw& law);
+/// Fills the kernels' per-bond constants (b.kb, b.wv; b.lc and b.op with flaws) and the LPS
+/// per-node constants (law.lps_k, the A_i of law.lps_ap) from the per-body law and the per-bond
+/// factors. `stiff`: per bond, beta times the bond's surface-correction factor (PMB), turned
+/// into b.kb in place (no second per-bond array); empty: b.beta. Call again whenever either
+/// changes; the kernels call it themselves when the sizes do not match.
+void bond_constants(const State& s, BondData& b, BodyLaw& law, std::vector<double> stiff = {});
+
+/// Bond k's partial-volume factor: b.beta[k], or, when the solver keeps none (no moving LPS or
+/// RNP body), model::partial_volume of its xi in its body (the bits build_bonds computed).
+inline double bond_beta(const BondData& b, const BodyLaw& law, std::size_t body, std::size_t k) {
+    return b.beta.empty() ? model::partial_volume(b.xi[k], law.delta[body], law.h[body])
+                          : b.beta[k];
+}
 
 /// Damage phi_i = sum of beta V_j over broken bonds / sum over all bonds (spec decision 4).
-void damage_phi(const State& s, const BondData& b, std::vector<double>& phi);
+void damage_phi(const State& s, const BondData& b, const BodyLaw& law, std::vector<double>& phi);
 
 } // namespace pd::solver

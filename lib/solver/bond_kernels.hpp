@@ -71,7 +71,7 @@ struct Arrays {
         , om(b.omega.data())
         , kb(b.kb.data())
         , wv(b.wv.data())
-        , lc(b.lc.data())
+        , lc(b.lc.empty() ? nullptr : b.lc.data())
         , op(b.op.empty() ? nullptr : b.op.data())
         , alive(b.alive.data()) {}
     std::int64_t n;
@@ -80,10 +80,17 @@ struct Arrays {
     double* f;
     const offset_t* off;
     const index_t* nb;
-    const double *xi, *beta, *om, *kb, *wv, *lc;
+    const double *xi, *beta, *om, *kb, *wv;
+    const double* lc; ///< BondData::lc (nullptr: no flaws, xi (1 + s0) of the body)
     const double* op; ///< BondData::op (nullptr: no flaws, 1 + s0 of the body)
     std::uint8_t* alive;
 };
+
+/// The length at which bond k breaks: its own with flaws, else xi hi (hi = 1 + s0 of the row's
+/// body; inf when unbreakable), the product bond_constants once stored.
+PD_INLINE double break_length(const Arrays& v, offset_t k, double hi) {
+    return v.lc ? v.lc[k] : v.xi[k] * hi;
+}
 
 /// The sums of a kernel over its rows.
 struct Sums {
@@ -378,7 +385,7 @@ struct Wide {
 
 /// Callers that fill BondData and BodyLaw by hand (tests) get the constants on the first call.
 inline void ensure_constants(const State& s, BondData& b, const BodyLaw& law) {
-    if (b.kb.size() != b.xi.size() || b.lc.size() != b.xi.size() ||
+    if (b.kb.size() != b.xi.size() || b.lc.size() != (law.any_flaws ? b.xi.size() : 0) ||
         (!b.omega.empty() && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
         (law.m.size() == s.n && law.lps_ap.size() != 2 * s.n))
         bond_constants(s, b, const_cast<BodyLaw&>(law));

@@ -39,6 +39,8 @@ void size_law(BodyLaw& law, std::size_t nb, int dimension) {
     law.dimension = dimension;
     law.krep.assign(nb, 0.0);
     law.rrep.assign(nb, 0.0);
+    law.delta.assign(nb, 0.0);
+    law.h.assign(nb, 0.0);
     law.alpha = dimension == 3 ? 15.0 : 8.0;
 }
 
@@ -64,6 +66,35 @@ void check_whole_grains(const Forces& f) {
                     "(pd-partition --by grain)",
                     b, f.dom->owner(i0), f.dom->owner(i)));
     }
+}
+/// The surface correction's factor G of every bond of the rows (model/surface_correction.hpp),
+/// from bond weights relative to a complete family of the body; 1 for RNP and fixed bodies.
+std::vector<double> surface_factors(Forces& f) {
+    const std::size_t nr = f.s.rows.size(), n = f.s.n;
+    std::vector<double> w(f.b.xi.size(), 0.0), angle(n, 0.0), ref(f.m.bodies.num(), 1.0);
+    for (std::size_t b = 0; b < ref.size(); ++b) // a complete family's axis moment
+        if (!f.m.bodies.fixed[b])
+            ref[b] = std::max(model::quadrature_factors(f.m, b).axis_moment, 1e-300);
+    for (std::size_t a = 0; a < nr; ++a) {
+        const auto i = static_cast<std::size_t>(f.s.rows[a]);
+        const auto body = static_cast<std::size_t>(f.s.body[i]);
+        for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const double r = f.b.xi[kk], vb = bond_beta(f.b, f.law, body, kk) *
+                                              f.s.vol[static_cast<std::size_t>(f.b.neighbor[kk])] /
+                                              ref[body];
+            // RNP and fixed bodies: no bonds counted, factors 1.
+            w[kk] = f.law.rnp[body] || f.m.bodies.fixed[body] ? 0.0
+                    : f.law.lps[body]                         ? f.b.omega[kk] * r * r * vb
+                                                              : r * vb;
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        angle[i] = f.m.bodies.orientation[static_cast<std::size_t>(f.s.body[i])];
+    const model::FamilyRows fr{f.b.offsets, f.b.neighbor, f.s.rows, f.s.x0, angle};
+    return model::surface_bond_factors(
+        fr, std::move(w), f.m.dimension, n,
+        [&](std::vector<double>& g) { f.dom->exchange({&g}, 3); }, 1);
 }
 } // namespace
 
@@ -121,6 +152,8 @@ void law_constants(Forces& f) {
         f.law.krep[b] =
             18.0 * mat.bulk_modulus() / (M_PI * std::pow(f.m.bodies.horizon[b], f.m.dimension + 2));
         f.law.rrep[b] = 0.95 * f.m.bodies.mesh_size[b];
+        f.law.delta[b] = f.m.bodies.horizon[b];
+        f.law.h[b] = f.m.bodies.mesh_size[b];
     }
 }
 
@@ -147,7 +180,10 @@ void build_bonds(Forces& f, std::vector<index_t>& row_neighbors) {
         row_neighbors.clear();
     }
     f.b.xi.resize(nbond);
-    f.b.beta.resize(nbond);
+    // beta only where a kernel reads it (LPS, RNP); PMB's is folded into kb (bond_beta).
+    const bool keep_beta = f.law.any_lps || f.law.any_rnp;
+    f.b.beta.assign(keep_beta ? nbond : 0, 0.0);
+    f.b.beta.shrink_to_fit();
     f.b.alive.assign(nbond, 1);
     for (std::size_t a = 0; a < nr; ++a) {
         const auto i = static_cast<std::size_t>(f.s.rows[a]);
@@ -159,7 +195,8 @@ void build_bonds(Forces& f, std::vector<index_t>& row_neighbors) {
             if (!(r > 0))
                 throw InputError(fmt::format("nodes {} and {} coincide (zero-length bond)", i, j));
             f.b.xi[kk] = r;
-            f.b.beta[kk] = model::partial_volume(r, m.bodies.horizon[b], m.bodies.mesh_size[b]);
+            if (keep_beta)
+                f.b.beta[kk] = model::partial_volume(r, f.law.delta[b], f.law.h[b]);
         }
     }
     f.b.omega.clear();
@@ -195,42 +232,28 @@ void family_factors(Forces& f) {
     // Surface correction (solver.surface_correction; model/surface_correction.hpp): per-node
     // axis factors relative to a complete family of the body, a directional factor per bond on
     // the PMB micromodulus or the LPS influence function (before m_i is summed from it).
-    f.b.stiff = f.b.beta;
-    if (f.m.solver.surface_correction) {
-        std::vector<double> w(f.b.xi.size(), 0.0), angle(n, 0.0), ref(f.m.bodies.num(), 1.0);
-        for (std::size_t b = 0; b < ref.size(); ++b) // a complete family's axis moment
-            if (!f.m.bodies.fixed[b])
-                ref[b] = std::max(model::quadrature_factors(f.m, b).axis_moment, 1e-300);
-        for (std::size_t a = 0; a < nr; ++a) {
-            const auto i = static_cast<std::size_t>(f.s.rows[a]);
-            const auto body = static_cast<std::size_t>(f.s.body[i]);
-            for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
-                const auto kk = static_cast<std::size_t>(k);
-                const double r = f.b.xi[kk],
-                             vb = f.b.beta[kk] *
-                                  f.s.vol[static_cast<std::size_t>(f.b.neighbor[kk])] / ref[body];
-                // RNP and fixed bodies: no bonds counted, factors 1.
-                w[kk] = f.law.rnp[body] || f.m.bodies.fixed[body] ? 0.0
-                        : f.law.lps[body]                         ? f.b.omega[kk] * r * r * vb
-                                                                  : r * vb;
-            }
-        }
-        for (std::size_t i = 0; i < n; ++i)
-            angle[i] = f.m.bodies.orientation[static_cast<std::size_t>(f.s.body[i])];
-        const model::FamilyRows fr{f.b.offsets, f.b.neighbor, f.s.rows, f.s.x0, angle};
-        const auto G = model::surface_bond_factors(
-            fr, w, f.m.dimension, n, [&](std::vector<double>& g) { f.dom->exchange({&g}, 3); }, 1);
-        for (std::size_t a = 0; a < nr; ++a) {
-            const auto body =
-                static_cast<std::size_t>(f.s.body[static_cast<std::size_t>(f.s.rows[a])]);
-            // RNP and fixed bodies keep factor 1; a fixed LPS body has no omega when no moving
-            // body is LPS (the per-bond array is then empty).
-            if (f.law.rnp[body] || f.m.bodies.fixed[body])
-                continue;
-            for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
-                const auto kk = static_cast<std::size_t>(k);
-                (f.law.lps[body] ? f.b.omega[kk] : f.b.stiff[kk]) *= G[kk];
-            }
+    // `stiff` (beta G of a PMB bond, beta elsewhere) is built in the factors' array and becomes
+    // kb in bond_constants: one per-bond array of doubles at a time (issue 29 item 3).
+    const auto body_of = [&](std::size_t a) {
+        return static_cast<std::size_t>(f.s.body[static_cast<std::size_t>(f.s.rows[a])]);
+    };
+    std::vector<double> stiff;
+    if (f.m.solver.surface_correction)
+        stiff = surface_factors(f);
+    else
+        stiff.assign(f.b.xi.size(), 1.0);
+    for (std::size_t a = 0; a < nr; ++a) {
+        const auto body = body_of(a);
+        // RNP and fixed bodies keep factor 1; a fixed LPS body has no omega when no moving
+        // body is LPS (the per-bond array is then empty).
+        const bool scaled =
+            f.m.solver.surface_correction && !f.law.rnp[body] && !f.m.bodies.fixed[body];
+        for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const double beta = bond_beta(f.b, f.law, body, kk);
+            if (scaled && f.law.lps[body])
+                f.b.omega[kk] *= stiff[kk];
+            stiff[kk] = scaled && !f.law.lps[body] ? beta * stiff[kk] : beta;
         }
     }
     if (f.law.any_lps) {
@@ -248,7 +271,7 @@ void family_factors(Forces& f) {
     }
     // Per-bond and per-node constants of the kernels, from the per-body law and the per-bond
     // factors above, so that a calibration of either composes.
-    bond_constants(f.s, f.b, f.law);
+    bond_constants(f.s, f.b, f.law, std::move(stiff));
 }
 
 void set_bond_ghosts(Forces& f) {

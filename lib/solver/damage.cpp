@@ -10,7 +10,7 @@
 namespace pd::solver {
 
 void Solver::damage(std::vector<double>& phi) const {
-    damage_phi(f_.s, f_.b, phi);
+    damage_phi(f_.s, f_.b, f_.law, phi);
 }
 
 void Solver::broken_per_node(std::vector<double>& count) const {

@@ -15,7 +15,12 @@ namespace pd::solver::detail {
 template <class T>
 std::vector<T> rows_of(const std::vector<T>& from, const std::vector<offset_t>& whole,
                        const std::vector<index_t>& rows) {
+    std::size_t total = 0; // exactly: a per-bond array (no growth slack)
+    for (auto row : rows)
+        total += static_cast<std::size_t>(whole[static_cast<std::size_t>(row) + 1] -
+                                          whole[static_cast<std::size_t>(row)]);
     std::vector<T> out;
+    out.reserve(total);
     for (auto row : rows) {
         const auto i = static_cast<std::size_t>(row);
         out.insert(out.end(), from.begin() + whole[i], from.begin() + whole[i + 1]);

@@ -168,11 +168,12 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
 #endif
 
 /// Pass 1 of a row with broken or breaking bonds: breaks them (alive = 2: broken in this call),
-/// r's sums and mi = the weighted volume of the intact bonds. lo = 1 - s0 of the row's body when
-/// Comp (bonds shorter than xi lo break too).
+/// r's sums and mi = the weighted volume of the intact bonds. hi = 1 + s0 of the row's body
+/// (break_length); lo = 1 - s0 when Comp (bonds shorter than xi lo break too).
 template <bool Breakable, bool Comp, bool Energy>
 [[gnu::noinline]] void pass1_general(const Arrays& v, std::int64_t a, std::int64_t i, double lo,
-                                     Row1& r, double& mi, bool& damaged, std::int64_t& broken) {
+                                     double hi, Row1& r, double& mi, bool& damaged,
+                                     std::int64_t& broken) {
     r = Row1{};
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
         if (!v.alive[k]) {
@@ -182,7 +183,7 @@ template <bool Breakable, bool Comp, bool Energy>
         const index_t j = v.nb[k];
         double d[3];
         const double l = bond_d(v.x, i, j, d);
-        if (Breakable && (l > v.lc[k] || (Comp && l < v.xi[k] * lo))) {
+        if (Breakable && (l > break_length(v, k, hi) || (Comp && l < v.xi[k] * lo))) {
             v.alive[k] = 2;
             damaged = true;
             ++broken;
@@ -243,7 +244,8 @@ PD_INLINE void pass1_finish(const Lps& w, const BodyLaw& law, std::size_t body, 
         bool damaged = false;                           /* breaks beyond xi (1 + s0), as b.lc */   \
         const double lo = Comp ? law.s0_lo[body] : 0.0; /* Comp: below xi (1 - s0) */              \
         if (!hot(v, w, i, v.op ? v.op[a] : 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], r))     \
-            pass1_general<Breakable, Comp, Energy>(v, a, i, lo, r, mi, damaged, broken);           \
+            pass1_general<Breakable, Comp, Energy>(v, a, i, lo, 1.0 + law.s0[body], r, mi,         \
+                                                   damaged, broken);                               \
         pass1_finish<Energy>(w, law, body, i, r, mi, damaged, v.vol, energy);                      \
     }
 

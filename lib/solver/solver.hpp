@@ -58,6 +58,8 @@ class Solver {
     /// This rank's rows of the bond list (CSR over state().rows; on one rank, all of it).
     const BondData& bonds() const { return f_.b; }
     BondData& bonds() { return f_.b; }
+    /// The per-body constants of the bond laws (s0, c, horizon; bond_beta()).
+    const BodyLaw& bond_law() const { return f_.law; }
     /// Writes this rank's bond states into their places of a whole-list array (size of the
     /// model's bond list; other entries untouched).
     void alive_into(std::vector<std::uint8_t>& full) const;

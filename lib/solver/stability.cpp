@@ -306,13 +306,9 @@ BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law
             const auto i = static_cast<std::size_t>(s.rows[a]);
             if (!s.moving[i])
                 continue;
-            const auto body = static_cast<std::size_t>(s.body[i]);
-            double k = 0;
-            for (auto kk = b.offsets[a]; kk < b.offsets[a + 1]; ++kk) {
-                const auto q = static_cast<std::size_t>(kk);
-                k += law.c[body] * b.stiff[q] * s.vol[static_cast<std::size_t>(b.neighbor[q])] /
-                     b.xi[q];
-            }
+            double k = 0; // kb = c beta G V_j / xi, as this sum once computed it
+            for (auto kk = b.offsets[a]; kk < b.offsets[a + 1]; ++kk)
+                k += b.kb[static_cast<std::size_t>(kk)];
             k_max = std::max(k_max, 2.0 * k / s.rho[i]);
         }
         r.ritz = dom.max(k_max);

@@ -101,21 +101,29 @@ using UnloadMap = std::map<std::pair<std::int32_t, std::int32_t>, double>;
 
 /// The bond rows of this rank's nodes only: row a is node State::rows[a] (all rows on one rank),
 /// neighbours are global node ids. Other ranks' rows are never stored, so bond memory per rank
-/// shrinks with the rank count.
+/// shrinks with the rank count. Per bond the solver keeps what its loops read: a PMB bond 21
+/// bytes (neighbour, xi, kb, alive), 29 with flaws (lc); set-up quantities (the partial volume
+/// beta of a PMB bond, its surface-correction factor) are recomputed or folded into kb (issue
+/// 29 item 3).
 struct BondData {
     std::vector<offset_t> offsets; ///< rows.size() + 1
     std::vector<index_t> neighbor;
-    std::vector<double> xi;          ///< reference bond length, m
-    std::vector<double> beta;        ///< partial-volume factor (spec 1.3)
+    std::vector<double> xi; ///< reference bond length, m
+    /// Partial-volume factor (spec 1.3), kept only when an LPS or RNP body is moving (their
+    /// kernels read it); else empty, and bond_beta() recomputes it from xi (the same bits).
+    std::vector<double> beta;
     std::vector<double> omega;       ///< influence J(xi / delta) (state-based law; else empty)
-    std::vector<double> stiff;       ///< PMB: beta times the bond's quadrature correction
     std::vector<std::uint8_t> alive; ///< 1 intact, 0 broken
     // Per-bond constants of the kernels, precomputed from the above and the body's law
     // (Solver::family_factors; recomputed whenever the rows change), so the bond loops do one
     // sqrt and one division per bond:
-    std::vector<double> kb; ///< PMB: c stiff V_j / xi (force density = kb (l - xi) / l), N m-7
+    /// PMB: c beta G V_j / xi (force density = kb (l - xi) / l; G the surface correction's
+    /// factor, 1 without it), N m-7
+    std::vector<double> kb;
     std::vector<double> wv; ///< LPS: omega beta V_j, m3
-    std::vector<double> lc; ///< length at which the bond breaks, xi (1 + s0) (inf: never), m
+    /// With flaws only (else empty: the length is xi (1 + s0) of the row's body, the same
+    /// product): the length at which the bond breaks, xi (1 + s0 w) (inf: never), m
+    std::vector<double> lc;
     /// With flaws only (else empty): per row, 1 + the least critical stretch of its bonds, the
     /// threshold of the hot loops' "a bond may break" test (the bond's own is lc).
     std::vector<double> op;
@@ -154,6 +162,7 @@ struct BodyLaw {
     double alpha = 15;         ///< LPS shear factor: 15 (3D), 8 (2D)
     std::vector<double> krep;  ///< broken-bond repulsion stiffness 18 K / (pi delta^(d+2)), N m-7
     std::vector<double> rrep;  ///< broken-bond repulsion radius 0.95 h, m (spec 4.7)
+    std::vector<double> delta, h; ///< per body: horizon and mesh size, m (bond_beta)
     int dimension = 2;
     double dt = 0; ///< time step (s): the fracture energy's step correction
     bool any_breakable = false;

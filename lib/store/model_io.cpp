@@ -308,10 +308,15 @@ std::vector<model::index_t> read_bond_rows(const h5::File& f, const model::Model
                    e = static_cast<std::uint64_t>(m.bonds.offsets[r[1]]);
         if (e > b) {
             auto part = f.read_rows<std::int32_t>(p, b, e - b);
-            out.insert(out.end(), part.begin(), part.end());
+            if (out.empty())
+                out = std::move(part); // one run (one rank): no copy
+            else
+                out.insert(out.end(), part.begin(), part.end());
         }
     }
     require_range<std::int32_t>(f, p, out, 0, static_cast<std::int32_t>(m.nodes.num()));
+    if (runs.size() == 1 && runs[0][0] == 0 && runs[0][1] == m.nodes.num())
+        detail::check_bond_pairs(f, m.bonds.offsets, out); // the whole list: as read_model
     return out;
 }
 

@@ -32,7 +32,9 @@ void write_wall_position(h5::File& f, std::size_t k, const model::Wall& w);
 model::Model read_model(const h5::File& f, bool neighbors = true);
 
 /// The neighbour lists of the nodes in `runs` ([begin, end) node ranges, ascending), concatenated
-/// in node order: hyperslab reads of /bonds/neighbor, checked against the node count.
+/// in node order: hyperslab reads of /bonds/neighbor, checked against the node count; the whole
+/// list (one run over every node: pd-solve at one rank) also as read_model checks it (each bond
+/// once in each direction).
 std::vector<model::index_t> read_bond_rows(const h5::File& f, const model::Model& m,
                                            const std::vector<std::array<std::uint64_t, 2>>& runs);
 

@@ -100,4 +100,9 @@ inline const char* influence_name(model::Influence f) {
                                              : "constant";
 }
 
+/// Each bond once in each direction (no node twice in a row, none bonded to itself, j in the
+/// row of i means i in the row of j), else SchemaError naming /bonds/neighbor; the whole list.
+void check_bond_pairs(const h5::File& f, const std::vector<std::int64_t>& offsets,
+                      const std::vector<std::int32_t>& neighbor);
+
 } // namespace pd::store::detail

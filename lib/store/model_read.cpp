@@ -195,38 +195,6 @@ void read_nodes(const h5::File& f, model::Model& m) {
                                 i, m.nodes.body[static_cast<std::size_t>(i)], k));
 }
 
-/// Each bond once in each direction: a row holds no node twice and not its own node, and j in
-/// the row of i means i in the row of j. An asymmetric or duplicated bond breaks Newton's third
-/// law (the momentum drifts) or counts one pair twice; pd-pack never writes either.
-void check_bond_pairs(const h5::File& f, const model::Bonds& b) {
-    const std::string p = std::string(path::bonds) + "/neighbor";
-    std::vector<std::int32_t> sorted(b.neighbor.begin(), b.neighbor.end());
-    const std::size_t n = b.offsets.size() - 1;
-    auto row = [&](std::size_t i) {
-        return std::pair{sorted.begin() + b.offsets[i], sorted.begin() + b.offsets[i + 1]};
-    };
-    for (std::size_t i = 0; i < n; ++i) {
-        auto [lo, hi] = row(i);
-        std::sort(lo, hi);
-        if (const auto d = std::adjacent_find(lo, hi); d != hi)
-            throw SchemaError(
-                f.name(), p, fmt::format("node {} lists node {} twice (a duplicated bond)", i, *d));
-        if (std::binary_search(lo, hi, static_cast<std::int32_t>(i)))
-            throw SchemaError(f.name(), p, fmt::format("node {} is bonded to itself", i));
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        const auto [lo, hi] = row(i);
-        for (auto it = lo; it != hi; ++it) {
-            const auto [jl, jh] = row(static_cast<std::size_t>(*it));
-            if (!std::binary_search(jl, jh, static_cast<std::int32_t>(i)))
-                throw SchemaError(f.name(), p,
-                                  fmt::format("node {} is bonded to node {}, but node {} not to "
-                                              "node {} (an asymmetric bond)",
-                                              i, *it, *it, i));
-        }
-    }
-}
-
 /// /bonds (the neighbours only with `neighbors`).
 void read_bonds(const h5::File& f, model::Model& m, bool neighbors) {
     const std::uint64_t n = m.nodes.volume.size();
@@ -245,7 +213,7 @@ void read_bonds(const h5::File& f, model::Model& m, bool neighbors) {
         m.bonds.neighbor = get<std::int32_t>(f, bo + "/neighbor", {0});
         require_range<std::int32_t>(f, bo + "/neighbor", m.bonds.neighbor, 0,
                                     static_cast<std::int32_t>(n));
-        check_bond_pairs(f, m.bonds);
+        detail::check_bond_pairs(f, m.bonds.offsets, m.bonds.neighbor);
     }
 }
 
@@ -579,5 +547,42 @@ model::Model read_model(const h5::File& f, bool neighbors) {
     m.check_consistency();
     return m;
 }
+
+namespace detail {
+
+/// Each bond once in each direction: a row holds no node twice and not its own node, and j in
+/// the row of i means i in the row of j. An asymmetric or duplicated bond breaks Newton's third
+/// law (the momentum drifts) or counts one pair twice; pd-pack never writes either.
+void check_bond_pairs(const h5::File& f, const std::vector<std::int64_t>& offsets,
+                      const std::vector<std::int32_t>& neighbor) {
+    const std::string p = std::string(path::bonds) + "/neighbor";
+    std::vector<std::int32_t> sorted(neighbor.begin(), neighbor.end());
+    const std::size_t n = offsets.size() - 1;
+    auto row = [&](std::size_t i) {
+        return std::pair{sorted.begin() + offsets[i], sorted.begin() + offsets[i + 1]};
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        auto [lo, hi] = row(i);
+        std::sort(lo, hi);
+        if (const auto d = std::adjacent_find(lo, hi); d != hi)
+            throw SchemaError(
+                f.name(), p, fmt::format("node {} lists node {} twice (a duplicated bond)", i, *d));
+        if (std::binary_search(lo, hi, static_cast<std::int32_t>(i)))
+            throw SchemaError(f.name(), p, fmt::format("node {} is bonded to itself", i));
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto [lo, hi] = row(i);
+        for (auto it = lo; it != hi; ++it) {
+            const auto [jl, jh] = row(static_cast<std::size_t>(*it));
+            if (!std::binary_search(jl, jh, static_cast<std::int32_t>(i)))
+                throw SchemaError(f.name(), p,
+                                  fmt::format("node {} is bonded to node {}, but node {} not to "
+                                              "node {} (an asymmetric bond)",
+                                              i, *it, *it, i));
+        }
+    }
+}
+
+} // namespace detail
 
 } // namespace pd::store

@@ -88,13 +88,13 @@ class ParticleParser {
                               : fmt::format("shape '{}'", d.shape));
             }
             total += it->second;
-            bonds +=
-                it->second * std::min(it->second - 1, bonds_per_node(ratio_of(d), m.dimension));
+            bonds += it->second * std::min(it->second - 1,
+                                           bonds_per_node(family_reach(ratio_of(d)), m.dimension));
         }
         too_many(total, "particles",
                  fmt::format("the scene ({} grains; discretization.mesh_size {:g} m)", inst.size(),
                              h_ref));
-        check_bond_budget(total, bonds, max_nodes, m.dimension, dz.horizon_key,
+        check_bond_budget(total, bonds, max_nodes, m.dimension, state_based(), dz.horizon_key,
                           fmt::format("the scene ({} grains; discretization.mesh_size {:g} m, "
                                       "horizon up to {:.3g} x the mesh size)",
                                       inst.size(), h_ref, max_ratio()));
@@ -156,8 +156,15 @@ class ParticleParser {
         return std::isfinite(nodes) ? nodes : std::numeric_limits<double>::infinity();
     }
 
+    /// Some material keeps per-bond state (LPS, RNP): more memory per bond (resources.cpp).
+    bool state_based() const {
+        return std::any_of(m.materials.begin(), m.materials.end(),
+                           [](const auto& mat) { return mat.law != model::Law::pmb; });
+    }
+
     void too_many(double estimate, const std::string& key, const std::string& what) const {
-        check_node_budget(estimate, max_nodes, m.dimension, key, what); // pipeline/resources
+        check_node_budget(estimate, max_nodes, m.dimension, state_based(), key,
+                          what); // pipeline/resources
     }
 
     void common(const json& p, const std::string& w, Instance& d) const {

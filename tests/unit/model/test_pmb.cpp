@@ -65,7 +65,6 @@ TEST(Pmb, TwoNodeBondForce) {
     b.neighbor = {1, 0};
     b.xi = {r, r};
     b.beta = {1, 1};
-    b.stiff = {1, 1};
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};
@@ -105,7 +104,6 @@ TEST(Pmb, BreakingIsSymmetricAndTensionOnly) {
     b.neighbor = {1, 0};
     b.xi = {r, r};
     b.beta = {1, 1};
-    b.stiff = {1, 1};
     b.alive = {1, 1};
     solver::BodyLaw law;
     law.lps = {0};

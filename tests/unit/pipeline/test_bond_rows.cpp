@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Reading a rank's part of the bond list: store::read_bond_rows gives exactly the rows of the
-// whole list, and a Solver built from them equals one built from the whole model.
+// whole list, and a Solver built from them equals one built from the whole model; the bond
+// data it keeps fits pd-pack's memory model (pipeline/resources.cpp).
 #include "h5/file.hpp"
+#include "pipeline/resources.hpp"
 #include "pipeline/scene.hpp"
+#include "solver/bond_forces.hpp"
 #include "solver/solver.hpp"
 #include "store/model_io.hpp"
 
@@ -47,7 +50,7 @@ TEST(BondRows, PartialReadEqualsTheRowsOfTheWholeList) {
     // bond data, surface factors and LPS weighted volumes included.
     solver::Solver a(whole), b(part, nullptr, store::read_bond_rows(f, part, {{0, n}}));
     EXPECT_EQ(a.bonds().neighbor, b.bonds().neighbor);
-    EXPECT_EQ(a.bonds().stiff, b.bonds().stiff);
+    EXPECT_EQ(a.bonds().kb, b.bonds().kb);
     EXPECT_EQ(a.bonds().omega, b.bonds().omega);
     EXPECT_EQ(a.stable_dt().limit, b.stable_dt().limit);
     a.set_dt(1e-7);
@@ -83,7 +86,12 @@ TEST(BondRows, SurfaceCorrectionLeavesAFixedLpsBodyAlone) {
     for (std::size_t i = 0; i + 1 < b.offsets.size(); ++i)
         for (auto k = b.offsets[i]; k < b.offsets[i + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
-            const bool scaled = b.stiff[kk] != b.beta[kk];
+            // kb = c beta G V_j / xi: G = 1 where kb is that of beta alone
+            const auto body = static_cast<std::size_t>(model.nodes.body[i]);
+            const double c = a.bond_law().c[body],
+                         vj = a.state().vol[static_cast<std::size_t>(b.neighbor[kk])];
+            const bool scaled =
+                b.kb[kk] != c * solver::bond_beta(b, a.bond_law(), body, kk) * vj / b.xi[kk];
             if (model.nodes.body[i] == 1) {
                 ++fixed_bonds;
                 fixed_scaled += scaled;
@@ -94,5 +102,40 @@ TEST(BondRows, SurfaceCorrectionLeavesAFixedLpsBodyAlone) {
     EXPECT_GT(fixed_bonds, 0u);
     EXPECT_EQ(fixed_scaled, 0u); // factor 1 on the fixed body
     EXPECT_GT(ring_scaled, 0u);  // the moving PMB disc's surface is corrected
+}
+
+// pd-pack's memory guard predicts pd-solve's peak from a measured cost per bond (issue 29 item
+// 3); the per-bond arrays the solver keeps after set-up must fit in it, so that a new per-bond
+// array fails here until the guard (and RESULTS.md's measurement) follows.
+TEST(BondRows, PerBondStorageFitsTheMemoryGuard) {
+    const Log quiet("test", 0, Verbosity::quiet);
+    for (const std::string law : {"pmb", "lps", "rnp"}) {
+        const std::string nu = law == "pmb" ? "" : R"("poisson_ratio": 0.25, )";
+        const std::string scene = R"({"dimension": 2, "materials": {"m": {"law": ")" + law +
+                                  R"(", "density": 1200, "youngs_modulus": 3.24e7, )" + nu +
+                                  R"("fracture_energy": 10}},
+          "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
+          "particles": [{"radius": 1e-3, "center": [0, 0], "material": "m"}],
+          "solver": {"final_time": 1e-3}})";
+        const auto model = pipeline::build_scene(scene, "scene.json", quiet);
+        solver::Solver s(model);
+        s.set_dt(0.5 * s.stable_dt().limit);
+        s.initialize();
+        s.advance();
+        const auto& b = s.bonds();
+        auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+        const double per_bond =
+            static_cast<double>(bytes(b.neighbor) + bytes(b.xi) + bytes(b.beta) + bytes(b.omega) +
+                                bytes(b.alive) + bytes(b.kb) + bytes(b.wv) + bytes(b.lc) +
+                                bytes(b.len) + bytes(b.inv_len)) /
+            static_cast<double>(b.xi.size());
+        const bool state_based = law != "pmb";
+        const double guard = pipeline::solve_peak_bytes(0, 1, state_based) -
+                             pipeline::solve_peak_bytes(0, 0, state_based);
+        EXPECT_LE(per_bond, guard) << law;
+        EXPECT_GT(per_bond, 0.5 * guard) << law; // the guard is not far above either
+        if (law == "pmb")
+            EXPECT_EQ(per_bond, 21.0); // neighbour, xi, kb, alive
+    }
 }
 } // namespace
