@@ -70,6 +70,7 @@ def walls(lx, t_settle):
 # highest node as it enters
 DAMPING_POUR, PLATE_SPEED, PLATE_GAP = 30.0, 0.1, 5e-5
 MESH_SIZE = 4.0e-4
+CUBOID = [1.4e-3, 1.2e-3, 1.0e-3]  # m: the box, scaled to each grain's bounding radius
 # soft grains (1/100 of PeriDEM's 32.4 MPa): the step grows as 1 / sqrt(E), the weight's strain
 # stays below 1e-3
 YOUNGS = 3.24e5
@@ -77,7 +78,7 @@ YOUNGS = 3.24e5
 
 def scene(title, csv_name, lx, times):
     t_pour, t_settle, t_end = times
-    box = [1.4e-3, 1.2e-3, 1.0e-3]
+    box = CUBOID
     scale = R_SMALL / R_LARGE
     return {
         "title": title,

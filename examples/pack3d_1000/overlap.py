@@ -10,10 +10,11 @@ For every frame each grain's rigid motion is fitted to its nodes (Kabsch: the ro
 translation that carry the reference positions closest to the current ones; the grains are
 unbreakable and strain little). A node y of grain A is inside grain B when, in B's frame,
 |y| < R (sphere of bounding radius R) or |y_k| < a_k for k = 1..3 (box of half-sizes a); its
-depth is R - |y| or min_k (a_k - |y_k|). The meshes' outer nodes lie up to h/2 inside the exact
-surface (a grid box's outer layer sits h/2 inside its faces), and the surface law stops a node
-at the other grain's boundary facets, so a node resting on B is up to about h/2 deep; the
-reported figure is the deepest node over all frames, against h, the finest mesh size of the scene (make quick checks it against
+depth is R - |y| or min_k (a_k - |y_k|). The meshes' facets lie up to a fraction of h inside
+the exact surface between their nodes (a gmsh sphere's facets are chords under its surface; a
+grid box's outer nodes lie on its faces), and the surface law stops a node at the other
+grain's facets, so a node resting on B can be a fraction of h deep; the reported figure is the
+deepest node over all frames, against the scene's mesh size h (make quick checks it against
 quick.json's overlap_max_h)."""
 import argparse
 import json
@@ -22,7 +23,9 @@ import h5py
 import numpy as np
 from scipy.spatial import cKDTree
 
-BOX = np.array([1.4e-3, 1.2e-3, 1.0e-3])  # make_scene.py's cuboid, scaled to each grain's R
+import make_scene  # the scene's mesh size and cuboid
+
+BOX = np.array(make_scene.CUBOID)  # scaled to each grain's bounding radius
 
 
 def grain_shapes(csv):
@@ -81,7 +84,6 @@ def run(path, csv):
         off = f["bodies/node_offsets"][()]
         centres = f["bodies/center"][()]
         orient = f["bodies/orientation"][()]
-        h = float(np.min(f["bodies/mesh_size"][()]))  # the finest nominal mesh size
         g = f["particles/nodes/position"]
         worst = {"depth": -np.inf}
         for k in range(g["value"].shape[0]):
@@ -89,7 +91,7 @@ def run(path, csv):
             if d > worst["depth"]:
                 worst = {"depth": d, "node": node, "grain": grain,
                          "time": float(g["time"][k]), "frame": k}
-    worst["h"] = h
+    worst["h"] = h = make_scene.MESH_SIZE
     worst["depth_over_h"] = worst["depth"] / h
     return worst
 
