@@ -76,7 +76,8 @@ def settled(r, damping):
     """The pack at the end of the settling stage: the box's vertical reaction against the
     weight, and against the weight less what the viscous damping (c, s^-1) holds, c P_z (P the
     grains' momentum: a creeping pack leans on the damping); KE / PE released."""
-    t, t1 = r["t"], r["t1"]
+    t = r["t"]
+    t1 = min(r["t1"], float(t[-1]))  # a run stopped before the plate entered: its end
     sel = (t > t1 - SETTLE_WINDOW) & (t <= t1)
     box = [j for j, s in enumerate(r["names"]) if s != "plate"]
     fz = -float(r["F"][sel][:, box, 2].sum(axis=1).mean())
@@ -193,7 +194,9 @@ def main():
     ap.add_argument("--check", help="bounds of the quick run (JSON)")
     a = ap.parse_args()
     r = read(a.file)
-    strain, stress, sm, comp = compression(r, a.window)
+    pressed = r["t"][-1] > r["t1"] + SETTLE_WINDOW
+    strain, stress, sm, comp = compression(r, a.window) if pressed else (
+        np.zeros(1), np.zeros(1), np.zeros(1), None)
     res = {k: r[k] for k in ("grains", "nodes", "bonds", "frames", "mass")}
     res.update({"settled": settled(r, a.settle_damping), "compression": comp})
     if a.analysis:
@@ -209,10 +212,14 @@ def main():
           "damping holds %.4f; KE / PE released %.3g" % (
               s["settle_time"] * 1e3, s["box_reaction"], s["reaction_over_weight"],
               s["floor_over_weight"], s["balance"], s["ke_over_pe"]))
-    print("plate: H0 %.3f mm; stress %.4g kPa at strain %.4f, %.3f x %.4g kPa at %.4f (onset "
-          "%.4f)" % (comp["H0"] * 1e3, comp["stress_end"] / 1e3, comp["strain_end"],
-                     comp["rise_ratio"], comp["stress_mid"] / 1e3, comp["strain_mid"],
-                     comp["onset_strain"]))
+    if comp is None:
+        print("the run ends at %.4g ms, before the plate entered: no compression" % (
+            r["t"][-1] * 1e3))
+    else:
+        print("plate: H0 %.3f mm; stress %.4g kPa at strain %.4f, %.3f x %.4g kPa at %.4f "
+              "(onset %.4f)" % (comp["H0"] * 1e3, comp["stress_end"] / 1e3, comp["strain_end"],
+                                comp["rise_ratio"], comp["stress_mid"] / 1e3,
+                                comp["strain_mid"], comp["onset_strain"]))
     if "overlap" in res:
         o = res["overlap"]
         print("deepest node inside another grain (exact shapes): %.3g mm = %.3f h at %.4g ms"
