@@ -134,8 +134,9 @@ TEST(BondRows, PerBondStorageFitsTheMemoryGuard) {
                              pipeline::solve_peak_bytes(0, 0, state_based);
         EXPECT_LE(per_bond, guard) << law;
         EXPECT_GT(per_bond, 0.5 * guard) << law; // the guard is not far above either
-        if (law == "pmb")
+        if (law == "pmb") {
             EXPECT_EQ(per_bond, 21.0); // neighbour, xi, kb, alive
+        }
     }
 }
 } // namespace

@@ -340,21 +340,12 @@ TEST(SurfaceContact, FacetSkipKeepsEveryForceWithinTheMeshSize) {
     // the other (axis-aligned) block's nearest side. A skip of reach r (no h) was tried: 1e-30 J
     // against 3.08e-2 J (every force dropped). The skip changes no force: the run of 3D spheres
     // poured to 14 ms (42 contacts) and a 2D box of 78 grains (30 ms) are bitwise the same.
-    auto m = pipeline::build_scene(R"({"dimension": 2,
-      "materials": {"m": {"density": 1200, "youngs_modulus": 3.24e7}},
-      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
-      "shapes": {"a": {"type": "rectangle", "corners": [[-2e-3, -1e-3], [2e-3, 0]]},
-                 "b": {"type": "rectangle", "corners": [[-1e-3, 0], [1e-3, 1e-3]]}},
-      "particles": [{"shape": "a", "center": [0, 0], "material": "m"},
-                    {"shape": "b", "center": [0, 1e-4], "material": "m"}],
-      "contact": {"law": "surface"}, "solver": {"final_time": 1}})",
-                                   "t", quiet);
-    // b's bottom side from y = 1e-4 down to -depth: into a (the bonds move with it, unstretched).
+    auto m = pressed_blocks(0); // b's bottom side at y = 0, then down to -depth: into a
     // h: each body's mesh size as the law takes it (measured on its mesh, not the nominal 0.2 mm)
     const double ha = m.bodies.mesh_size[0], hb = m.bodies.mesh_size[1];
-    const double depth = 0.9 * std::min(ha, hb), shift = 1e-4 + depth;
+    const double depth = 0.9 * std::min(ha, hb);
     for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i)
-        m.nodes.x0[3 * static_cast<std::size_t>(i) + 1] -= shift;
+        m.nodes.x0[3 * static_cast<std::size_t>(i) + 1] -= depth;
     const double c = m.contact.at(0).stiffness, yb = -depth;
     const double d0 = solver::onset_share * m.contact.at(0).radius;
     solver::Solver s(m);
