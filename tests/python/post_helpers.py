@@ -129,7 +129,7 @@ MESHED_FLOOR = """{
       "time_function": "linear", "value": 0.1 },
     { "name": "still", "kind": "displacement", "particles": [2], "components": ["x"],
       "value": 0 } ] },
-  "solver": { "final_time": 0.03, "dt": "auto", "output_interval": 1.0e-3 }
+  "solver": { "final_time": 0.05, "dt": "auto", "output_interval": 1.0e-3 }
 }
 """
 

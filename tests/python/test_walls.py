@@ -95,18 +95,17 @@ def test_meshed_walls_columns_and_weight(tmp_path_factory, bin_dir):
     np.testing.assert_array_equal(d["body_2_disp_x"], 0 * time)
     np.testing.assert_array_equal(d["body_0_disp_y"], 0 * time)
     assert np.abs(force[:, 1, :]).max() == 0  # the plate never touches
-    # While the disc rests (its kinetic energy below 1e-10 J; the plate's is constant), the floor
-    # carries its weight on average over the node-level chatter. The longest such stretch:
+    # The disc rests from 25 ms on (it lands on its lowest node and rocks onto a facet by 23 ms:
+    # tests/unit/solver/test_body_reactions.cpp); over the last 20 ms of 50 the floor carries
+    # its weight on average, and the disc keeps < 1e-3 of the 7e-6 J it lands with.
     with h5py.File(h5, "r") as f:
         ke = f["observables/kinetic_energy/value"][()]
-    rest = np.flatnonzero(ke - ke[0] < 1e-10)
-    runs = np.split(rest, np.flatnonzero(np.diff(rest) > 1) + 1)
-    run_ = max(runs, key=len)
-    assert time[run_[-1]] - time[run_[0]] > 1e-3, "the disc never rests for 1 ms"
+    late = time > time[-1] - 0.02
+    assert (ke[late] - ke[0]).max() < 7e-9, "the disc does not come to rest"
     # rtol 2 %: the node-level chatter of the floor force has a standard deviation of 20 % of the
     # weight with the surface correction (default; the disc's surface layer is as stiff as its
-    # bulk), 14 % without it, and the window (6.4 ms) averages it to +1.5 % (+0.7 % without).
-    np.testing.assert_allclose(-force[run_, 0, 1].mean(), weight, rtol=0.02)
+    # bulk), 14 % without it; the window averages it out.
+    np.testing.assert_allclose(-force[late, 0, 1].mean(), weight, rtol=0.02)
 
 
 def test_meshed_wall_missing_observable_is_a_clear_error(tmp_path_factory, bin_dir, tmp_path):

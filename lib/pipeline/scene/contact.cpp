@@ -23,13 +23,10 @@ const std::vector<std::string> law_keys = {
 /// a layer ~ h / surface_beta thick, vanishes with h (first order).
 constexpr double surface_beta = 1.0;
 
-/// The law of a scene that names none. Still the node-to-node law: on the surface law (issue
-/// 26, opt-in with "law": "surface") grains at rest chatter, since its static overlap under
-/// gravity is 1e-10 m against the undamped grains' vibration, and friction then lets a block
-/// creep down a 17 deg slope at mu = 0.5 (Accuracy.CoulombFrictionOnAnIncline: 0.22 mm in 20 ms
-/// against the bound 0.095 mm), and a dropped disc keeps 0.5 % of its drop energy in vibration
-/// after 30 ms; a node-level contact dashpot is the fix in view.
-constexpr model::ContactLaw default_law = model::ContactLaw::node;
+/// The law of a scene that names none: the surface law (issue 26), whose stiffness comes from
+/// the materials and the mesh with no factor. PeriDEM's node-to-node law stays for scenes that
+/// name it ("law": "node") or give it a radius or a numeric stiffness (PeriDEM decks).
+constexpr model::ContactLaw default_law = model::ContactLaw::surface;
 
 const auto with = [](std::vector<std::string> v, std::initializer_list<std::string> more) {
     v.insert(v.end(), more);

@@ -86,20 +86,23 @@ Sweep rotating_wall_sweep(const model::Model& m, Near near) {
     return r;
 }
 
-/// Solves 30 ms at 0.7x the automatic step with gravity g along -axis and returns the walls'
-/// reaction along +axis, time-averaged over the second half (the body rests), over the weight.
+/// Solves 40 ms at 0.7x the automatic step with gravity g along -axis and returns the walls'
+/// reaction along +axis, time-averaged over the last 20 ms (the body rests), over the weight.
+/// Dropped 0.2 mm, a disc on the surface law (no standoff) bounces until 17.5 ms (restitution
+/// 0.5); the node law's R_c standoff stopped it by 15 ms. A mean over bounces is off by the
+/// momentum they carry (1.044 x over 15-30 ms on the surface law).
 inline double resting_reaction(solver::Solver& s, int axis, double g = 10) {
     s.set_dt(0.7 * s.stable_dt().limit);
     s.initialize();
     double weight = 0;
     for (std::size_t i = 0; i < s.state().n; ++i)
         weight += g * s.state().rho[i] * s.state().vol[i];
-    const int steps = static_cast<int>(0.03 / s.dt());
+    const int steps = static_cast<int>(0.04 / s.dt());
     double sum = 0;
     int count = 0;
     for (int k = 0; k < steps; ++k) {
         s.advance();
-        if (k > steps / 2) {
+        if (k >= steps / 2) {
             sum += s.observe().wall_force[static_cast<std::size_t>(axis)];
             ++count;
         }

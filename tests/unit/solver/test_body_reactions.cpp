@@ -36,10 +36,13 @@ double body_mass(const model::Model& m, const solver::State& s, std::size_t b) {
 }
 
 TEST(BodyReaction, FixedMeshedFloorCarriesTheWeight) {
-    // The disc drops 0.2 mm and rests 1 mm right of the floor's centroid: while it rests the
-    // floor carries its weight and the moment -x W about its centroid (time averages over the
-    // node-level chatter). (Viscous damping brings it to rest: on a meshed floor grain-level
-    // damping alone lets it start bouncing again after a few ms.)
+    // The disc drops 0.2 mm and settles 1 mm right of the floor's centroid: over the last 20 ms
+    // of 50 the floor carries its weight and the moment -x W about its centroid (x the disc's
+    // mean offset), to within what the disc's momentum changes by over the window. (Viscous
+    // damping brings it to rest: on a meshed floor grain-level damping alone lets it start
+    // bouncing again after a few ms. On the surface law the polygonal disc, dropped onto a
+    // node, rocks onto a facet before it rests, at 23 ms: 0.2 mm of drop in 8 ms, then bounces
+    // of 14 and 2 um; the node law's R_c standoff rested it by 10 ms.)
     auto m = pipeline::build_scene(
         scene(R"({"shape": "slab", "center": [0, 0], "material": "m1", "fixed": true},
                  {"radius": 1e-3, "center": [1e-3, 1.2e-3], "material": "m1"})",
@@ -52,47 +55,40 @@ TEST(BodyReaction, FixedMeshedFloorCarriesTheWeight) {
     s.initialize();
     const double mass = body_mass(m, s.state(), 1), weight = 10 * mass;
     const auto floor_c = test::com(m, s.state(), 0, s.state().x);
-    const int steps = static_cast<int>(0.015 / s.dt());
-    // Rest: the disc's kinetic energy below 1e-10 J (it lands with 7e-6 J); sums over the
-    // longest resting stretch.
-    struct Run {
-        int n = 0;
-        double fx = 0, fy = 0, mz = 0, arm = 0;
-    } run, best;
+    const int steps = static_cast<int>(0.05 / s.dt()), from = static_cast<int>(0.03 / s.dt());
+    const auto com_v = [&] { return test::com(m, s.state(), 1, s.state().v); };
+    double fx = 0, fy = 0, mz = 0, arm = 0, ke = 0;
+    std::array<double, 3> v0{};
     for (int k = 0; k < steps; ++k) {
+        if (k == from)
+            v0 = com_v();
         s.advance();
         const auto o = s.observe(); // this step's reactions (an interval of one step)
         s.end_interval();
         ASSERT_EQ(o.body_force.size(), 3u);
-        double ke = 0;
-        for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i) {
-            const auto ii = static_cast<std::size_t>(i);
-            const double* vi = &s.state().v[3 * ii];
-            ke += 0.5 * s.state().rho[ii] * s.state().vol[ii] *
-                  (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
-        }
-        if (ke < 1e-10 && k > 100) {
-            ++run.n;
-            run.fx += o.body_force[0];
-            run.fy += o.body_force[1];
-            run.mz += o.body_moment[2];
-            run.arm += test::com(m, s.state(), 1, s.state().x)[0] - floor_c[0];
-        } else {
-            run = Run{};
-        }
-        if (run.n > best.n)
-            best = run;
+        if (k < from)
+            continue;
+        fx += o.body_force[0];
+        fy += o.body_force[1];
+        mz += o.body_moment[2];
+        arm += test::com(m, s.state(), 1, s.state().x)[0] - floor_c[0];
+        ke = std::max(ke, o.kinetic_energy);
     }
-    ASSERT_GT(best.n * s.dt(), 1e-3) << "the disc never rests for 1 ms";
-    const double arm = best.arm / best.n;
-    std::printf("[ meshed floor ] rests %.3g ms: reaction / weight %.5f, moment / (-arm W) %.5f, "
-                "arm %.4g m\n",
-                best.n * s.dt() * 1e3, -best.fy / best.n / weight,
-                best.mz / best.n / (-arm * weight), arm);
-    EXPECT_NEAR(-best.fy / best.n / weight, 1.0, 0.01);
-    EXPECT_NEAR(best.fx / best.n / weight, 0.0, 0.01);
-    EXPECT_NEAR(best.mz / best.n / (-arm * weight), 1.0, 0.02);
+    const double n = steps - from, T = n * s.dt();
+    const auto v1 = com_v();
+    // The floor's mean reaction is the weight plus the disc's momentum change over the window.
+    const double dpx = mass * (v1[0] - v0[0]) / T, dpy = mass * (v1[1] - v0[1]) / T;
+    arm /= n;
+    std::printf("[ meshed floor ] reaction / weight %.5f (momentum %+.1e), moment / (-arm W) %.5f, "
+                "arm %.4g m, largest KE %.2g J\n",
+                -fy / n / weight, dpy / weight, mz / n / (-arm * weight), arm, ke);
+    EXPECT_NEAR(-fy / n / weight, 1.0, 0.01);
+    EXPECT_NEAR((-fy / n - dpy) / weight, 1.0, 2e-3);
+    EXPECT_NEAR((fx / n + dpx) / weight, 0.0, 2e-3);
+    EXPECT_NEAR(mz / n / (-arm * weight), 1.0, 0.02);
     EXPECT_NEAR(arm, 1e-3, 2e-5);
+    // At rest: what is left is 1e-3 of the 7e-6 J the disc lands with.
+    EXPECT_LT(ke, 7e-9);
 }
 
 TEST(BodyReaction, DrivenPlateBalancesTheDiscMomentum) {

@@ -105,9 +105,12 @@ TEST(WallReaction, RestingDiscCarriesItsWeight) {
     double weight = 0;
     for (std::size_t i = 0; i < s.state().n; ++i)
         weight += 10 * s.state().rho[i] * s.state().vol[i];
-    // At rest: what is left is undamped elastic vibration inside the grain, a tiny fraction of
-    // the energy of the 0.2 mm drop.
-    EXPECT_LT(s.observe().kinetic_energy, 1e-4 * weight * 0.2e-3);
+    // At rest: what is left is undamped motion inside the grain and, on the surface law, the
+    // rocking of the polygonal disc (32 boundary facets), which lands on its lowest node and
+    // tips onto a facet: that frees at most W R (1 - cos(pi / 32)) = 2.4 % of the energy of the
+    // 0.2 mm drop (measured at 40 ms: 2.7e-4 of it; the node law's R_c standoff: < 1e-4).
+    const double tip = weight * 1e-3 * (1 - std::cos(M_PI / 32));
+    EXPECT_LT(s.observe().kinetic_energy, tip);
 }
 
 TEST(Damage, ElasticCollisionBreaksNothing) {

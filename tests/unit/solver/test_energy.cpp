@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <utility>
@@ -186,14 +187,21 @@ std::pair<solver::Observables, Drift> oblique_discs(const std::string& contact,
 
 TEST(Energy, DampingFrictionAndViscousDissipationAreCounted) {
     // Two discs collide obliquely with restitution 0.5 and friction 0.4, in a viscous medium:
-    // every channel takes energy, and the balance closes.
-    const auto [o, drift] = oblique_discs(R"({"restitution": 0.5, "friction": 0.4})",
-                                          R"({"viscous_damping": 50})", 0.7);
+    // every channel takes energy, and the balance closes, at first order in dt: velocity
+    // Verlet's kick with a force that depends on the velocity (damping, friction) is first
+    // order. Surface law: 0.52 / 0.26 / 0.13 % at 0.7 / 0.35 / 0.175 x the limit (its contact,
+    // stiffer than the node law's, lasts fewer steps: the node law drifted < 0.5 % at 0.7).
+    const std::string contact = R"({"restitution": 0.5, "friction": 0.4})";
+    const auto [o, drift] = oblique_discs(contact, R"({"viscous_damping": 50})", 0.7);
     const double ke0 = drift.scale;
     EXPECT_GT(o.damping_dissipation, 0.05 * ke0);
     EXPECT_GT(o.friction_dissipation, 1e-3 * ke0);
     EXPECT_GT(o.viscous_dissipation, 0.01 * ke0);
-    EXPECT_LT(drift.relative(), 5e-3);
+    EXPECT_LT(drift.relative(), 6e-3);
+    const auto half = oblique_discs(contact, R"({"viscous_damping": 50})", 0.35).second;
+    std::printf("[ dissipation ] balance drift %.3g %% at 0.7 x, %.3g %% at 0.35 x the limit\n",
+                100 * drift.relative(), 100 * half.relative());
+    EXPECT_LT(half.relative(), 0.6 * drift.relative()) << "not first order in dt";
 }
 
 TEST(Energy, FrictionAloneIsStableAtTheAutomaticStep) {
