@@ -66,6 +66,30 @@ def test_interpenetration_writes_the_failing_state_as_a_flagged_last_frame(tmp_p
 
 
 
+def test_surface_law_breach_says_so_and_names_its_bound(tmp_path):
+    """On the surface law (the default) the guard's bound is h/2 behind the boundary, with no
+    radius: two soft discs (E = 100 kPa) meeting at 10 m/s each, faster than their wave speed
+    (9.1 m/s), go through. The message names the law, its bound and c, and advises a finer mesh
+    or the node law with a radius, not a radius the law does not have."""
+    s = scene()
+    del s["contact"]
+    s["materials"]["m1"]["youngs_modulus"] = 1e5
+    s["particles"][0]["velocity"], s["particles"][1]["velocity"] = [10, 0], [-10, 0]
+    p = tmp_path / "fast.json"
+    p.write_text(json.dumps(s))
+    f = tmp_path / "fast.h5"
+    subprocess.run([f"{BIN}/pd-pack", str(p), "-o", str(f), "-q"], check=True)
+    r = subprocess.run([f"{BIN}/pd-solve", str(f), "-q"], capture_output=True, text=True)
+    assert r.returncode == 3, r.stdout + r.stderr
+    msg = r.stderr
+    assert "node pair(s) more than h/2 inside another grain" in msg, msg
+    h = float(re.search(r"surface law, h = ([0-9.eE+-]+) m", msg).group(1))
+    bound = float(re.search(r"bound h/2 = ([0-9.eE+-]+) m", msg).group(1))
+    assert 0.5 * 2e-4 < h <= 2e-4 and abs(bound - h / 2) < 1e-3 * h, msg  # 4 digits
+    assert re.search(r"c = [0-9.eE+-]+ N m-5", msg) and "R_c =" not in msg, msg
+    assert '"law": "node", "radius_mesh_factor": 3' in msg and "Refine the mesh" in msg, msg
+
+
 def test_penetration_warn_runs_on_as_peridem_decks_do(tmp_path):
     """solver.penetration "warn" (what pd-pack --from-peridem writes: PeriDEM has no such guard and
     runs its decks through the tunnelling R_c = 0.95 h allows; e.g. its drum deck

@@ -108,25 +108,33 @@ const model::ContactPair* law_between(const model::Model& m, std::int32_t a, std
 
 /// The numbers of an interpenetration: depth reached (the largest over the ranks that saw a
 /// node), R_c and h of the pair, K_n, dt and its limits (collective under MPI).
-std::string penetration_numbers(const Run& r) {
+/// What the interpenetration message says: the numbers, and whether the law between the two
+/// bodies is the surface law (no radius: its bound is h/2 behind the boundary).
+struct PenetrationReport {
+    std::string numbers;
+    bool surface = false;
+};
+
+PenetrationReport penetration_numbers(const Run& r) {
     const auto& o = r.last_obs;
     double rc_max = 0;
     for (const auto& p : r.m.contact)
         rc_max = std::max(rc_max, p.radius);
-    double depth = -std::numeric_limits<double>::infinity(), rc = 0, kn = 0, h = 0;
+    double depth = -std::numeric_limits<double>::infinity(), rc = 0, kn = 0, h = 0, surf = 0;
     if (o.inside_node >= 0 && o.inside_of >= 0) {
         h = r.m.bodies.mesh_size[static_cast<std::size_t>(o.inside_of)];
         const double layer = rc_max + 0.5 * h + std::min(rc_max, h);
         depth = depth_inside(r, o.inside_node, o.inside_of, layer);
         if (const auto* p = law_between(r.m, o.inside_body, o.inside_of)) {
-            rc = p->radius;
+            surf = p->law == model::ContactLaw::surface ? 1 : 0;
+            rc = surf > 0 ? 0.0 : p->radius;
             kn = p->stiffness;
         }
     }
     if (r.par) {
-        double mine[4] = {depth, rc, kn, h}, all[4];
-        MPI_Allreduce(mine, all, 4, MPI_DOUBLE, MPI_MAX, r.comm);
-        depth = all[0], rc = all[1], kn = all[2], h = all[3];
+        double mine[5] = {depth, rc, kn, h, surf}, all[5];
+        MPI_Allreduce(mine, all, 5, MPI_DOUBLE, MPI_MAX, r.comm);
+        depth = all[0], rc = all[1], kn = all[2], h = all[3], surf = all[4];
     }
     // A contact far softer than the grains (its stable step 10x the bonds'; the default K_n
     // gives about 1-2x) is the first suspect, beside the radius.
@@ -137,13 +145,21 @@ std::string penetration_numbers(const Run& r) {
                                 "stiffness_factor",
                                 soft)
                   : std::string{};
-    return fmt::format("depth reached {} (R_c = {:.4g} m, h = {:.4g} m: the guard's bound R_c + "
-                       "h/2 = {:.4g} m), K_n = {:.4g} N m-7, dt = {:.4g} s (stability limit "
-                       "{:.4g} s: bonds {:.4g} s, contact {:.4g} s)",
-                       std::isfinite(depth) ? fmt::format("{:.4g} m", depth) : "unknown", rc, h,
-                       rc + 0.5 * h, kn, r.steps.dt, r.steps.est.limit, r.steps.est.pd,
-                       r.steps.est.contact) +
-           softer;
+    const std::string reached =
+        std::isfinite(depth) ? fmt::format("{:.4g} m", depth) : std::string("unknown");
+    const std::string law =
+        surf > 0 ? fmt::format("depth reached {} (surface law, h = {:.4g} m: the guard's bound "
+                               "h/2 = {:.4g} m), c = {:.4g} N m-5",
+                               reached, h, 0.5 * h, kn)
+                 : fmt::format("depth reached {} (R_c = {:.4g} m, h = {:.4g} m: the guard's "
+                               "bound R_c + h/2 = {:.4g} m), K_n = {:.4g} N m-7",
+                               reached, rc, h, rc + 0.5 * h, kn);
+    return {law +
+                fmt::format(", dt = {:.4g} s (stability limit {:.4g} s: bonds {:.4g} s, "
+                            "contact {:.4g} s)",
+                            r.steps.dt, r.steps.est.limit, r.steps.est.pd, r.steps.est.contact) +
+                softer,
+            surf > 0};
 }
 
 /// The fastest closing motion the contact search must see within one step (collective; every
@@ -399,19 +415,29 @@ void Guards::inside(Run& r, std::int64_t n) {
     const auto& o = r.last_obs;
     if (o.inside_pairs <= 0 || warned_)
         return;
-    const std::string numbers = penetration_numbers(r); // collective
+    const auto pen = penetration_numbers(r); // collective
+    const std::string where = o.inside_node >= 0
+                                  ? fmt::format(" (node {} of body {} inside body {})",
+                                                o.inside_node, o.inside_body, o.inside_of)
+                                  : std::string{};
+    // The surface law has no radius to raise: a node h/2 behind a boundary came through a
+    // facet that could not hold the load (a sharp tip, a soft grain pressed hard) or a torn one.
+    const std::string advice =
+        pen.surface
+            ? "Contact failed: the surface law's pressure at h/2 depth (c h / 2) did not hold the "
+              "load there. Refine the mesh (that pressure, kappa / 2 h, grows as 1 / h), slow the "
+              "loading or impact, or give this pair the node law with a radius of 3 mesh sizes "
+              "(contact \"law\": \"node\", \"radius_mesh_factor\": 3)"
+            : "Contact failed: a node passed between the few nodes within R_c of it (README "
+              "\"Tunnelling and the contact radius\": a stiffer K_n alone does not stop it). "
+              "Give the grains' contact a radius of 3 mesh sizes (contact "
+              "\"radius_mesh_factor\": 3) or slow the loading or impact";
     breach(r, n, "interpenetration",
-           fmt::format("{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) "
-                       "more than the contact radius + h/2 inside another grain{}; {}. Contact "
-                       "failed: a node passed between the few nodes within R_c of it (README "
-                       "\"Tunnelling and the contact radius\": a stiffer K_n alone does not stop "
-                       "it). Give the grains' contact a radius of 3 mesh sizes "
-                       "(contact \"radius_mesh_factor\": 3) or slow the loading or impact",
+           fmt::format("{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) more "
+                       "than {} inside another grain{}; {}. {}",
                        r.opt.file, n, r.s.state().time, o.inside_pairs,
-                       o.inside_node >= 0 ? fmt::format(" (node {} of body {} inside body {})",
-                                                        o.inside_node, o.inside_body, o.inside_of)
-                                          : std::string{},
-                       numbers),
+                       pen.surface ? "h/2" : "the contact radius + h/2", where, pen.numbers,
+                       advice),
            ". The state at this step is the last frame (flagged: /particles/nodes attribute "
            "failed_step), the frames before stay valid; --no-penetration-check runs on");
 }
