@@ -66,23 +66,33 @@ Impact disc_on_wall(double h, double v) {
 TEST(SurfaceContact, DiscOnAWallConvergesToTheElastodynamicReference) {
     // Reference (issue 26): linear plane-stress finite elements of the disc on a frictionless
     // rigid wall, graded mesh, converged to 0.2 %: t_c = 46.53 us, F_max = 259.1 N/m at 1 m/s.
-    // Measured with the auto stiffness c = kappa / h^2: t_c +35.2 / +19.5 %, F_max -16.0 / -9.1 %
-    // at h = 0.1 / 0.05 mm (the node-to-node law's default: +255 % at h = 0.1 mm).
+    // Measured (gmsh disc, surface correction on, auto stiffness c = kappa / h^2, 0.85 x the
+    // automatic step): t_c +38.4 / +20.3 %, F_max -16.7 / -9.7 % at h = 0.1 / 0.05 mm; h = 0.025
+    // mm (not run here) +13.5 / -6.2 % (workflows/accuracy/hertz_surface.py, RESULTS.md "Surface
+    // law"). Of the +20 % at h = 0.05 mm, 13 points are the penalty's compliance (an infinitely
+    // stiff penalty, stiffness_factor 100, leaves +7.3 %, the disc's own) and the rest the
+    // disc: without the surface correction the stiff limit is +26.6 %. The bounds are the
+    // measured figures plus ~1 point (the node law's default: +255 % at h = 0.1 mm).
     const double tc = 46.53e-6, fmax = 259.1;
+    const double bound_t[2] = {0.40, 0.215}, bound_f[2] = {0.18, 0.11};
     double prev_t = 1e9, prev_f = 1e9;
+    int level = 0;
     for (double h : {1e-4, 5e-5}) {
         const auto r = disc_on_wall(h, 1.0);
         const double et = r.duration / tc - 1, ef = r.peak / fmax - 1;
         std::printf("[ disc on wall ] h = %.3g mm: t_c %+.1f %%, F_max %+.1f %%\n", h * 1e3,
                     100 * et, 100 * ef);
         EXPECT_EQ(r.beyond, 0) << "a node went h/2 through the wall";
+        EXPECT_GT(et, 0) << "the PD disc and the penalty are softer than the reference";
+        EXPECT_LT(ef, 0);
         EXPECT_LT(std::abs(et), prev_t) << "t_c does not converge";
         EXPECT_LT(std::abs(ef), prev_f) << "F_max does not converge";
+        EXPECT_LT(std::abs(et), bound_t[level]) << "h = " << h;
+        EXPECT_LT(std::abs(ef), bound_f[level]) << "h = " << h;
         prev_t = std::abs(et);
         prev_f = std::abs(ef);
+        ++level;
     }
-    EXPECT_LT(prev_t, 0.22);
-    EXPECT_LT(prev_f, 0.12);
 }
 
 TEST(SurfaceContact, ShatteringDiscsKeepTheirEnergy) {
