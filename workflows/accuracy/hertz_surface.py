@@ -87,6 +87,12 @@ def lowest_gap(runner, tag, dim, h, mesh, sets):
     return y.min()  # the lowest node's y with the centre at y = R
 
 
+def gap(dim, h):
+    """The lowest node's start above the wall or mid-plane: 0.002 h; 0.02 h in 3D, where a
+    facet of the other sphere (a chord) lies up to h^2 / (8 R) = 0.0125 h inside its sphere."""
+    return (0.002 if dim == 2 else 0.02) * h
+
+
 def measure(h5, dim, pair, v):
     import h5py
     import numpy as np
@@ -116,8 +122,8 @@ def measure(h5, dim, pair, v):
 
 def run_case(runner, dim, h, v, mesh, pair, settings, sets):
     tag = f"hs{dim}_{mesh}_{'pair' if pair else 'wall'}_{h:.3g}_{v:g}"
-    # The lowest node 0.002 h above the wall (the mid-plane): the centre at R + lift.
-    lift = 0.002 * h - lowest_gap(runner, tag, dim, h, mesh, sets)
+    # The lowest node gap(dim, h) above the wall (the mid-plane): the centre at R + lift.
+    lift = gap(dim, h) - lowest_gap(runner, tag, dim, h, mesh, sets)
     h5, cp, cs = runner.run(tag, scene(dim, h, v, mesh, pair, lift, settings), sets=sets)
     tc, fmax, n = measure(h5, dim, pair, v)
     os.remove(h5)
@@ -125,6 +131,64 @@ def run_case(runner, dim, h, v, mesh, pair, settings, sets):
     return {"dim": dim, "h": h, "v": v, "mesh": mesh, "pair": pair, "nodes": int(n),
             "tc": tc, "fmax": fmax, "tc_err": tc / rt - 1, "f_err": fmax / rf - 1,
             "cpu": cp + cs}
+
+
+def restitution_case(runner, dim, h, kind, eps, v=1.0, mesh="gmsh", sets=()):
+    """Rebound / impact speed (of the centres of mass, from the first and last velocity frame)
+    with contact restitution eps: kind "wall" (disc on a wall), "pair" (two equal discs at
+    +-v), "unequal" (R and R / 2 at +-v)."""
+    import h5py
+    tag = f"eps{dim}_{mesh}_{kind}_{h:.3g}_{eps:g}"
+    lift = gap(dim, h) - lowest_gap(runner, tag, dim, h, mesh, sets)
+    sc = scene(dim, h, v, mesh, kind != "wall", lift, {"contact": {"restitution": eps}})
+    tc = REFERENCE[dim][v][0]
+    sc["solver"]["output_interval"] = sc["solver"]["final_time"] / 4
+    if kind == "unequal":
+        sc["shapes"]["s2"] = dict(shape(dim, mesh), radius=0.5 * R_REF)
+        low = sc["particles"][1]
+        low["shape"] = "s2"
+        low["center"] = [0, -0.5 * R_REF - 0.05 * h] + ([0] if dim == 3 else [])
+    h5, _, _ = runner.run(tag, sc, sets=sets)
+    with h5py.File(h5, "r") as f:
+        vol, body = f["nodes/volume"][:], f["nodes/body"][:]
+        u = f["particles/nodes/velocity/value"]
+        first, last = u[0, :, 1], u[-1, :, 1]
+        cc = f["observables/contact_count/value"][:]
+    os.remove(h5)
+    if cc.reshape(len(cc), -1)[-1].sum() != 0:
+        raise RuntimeError(f"{tag}: still in contact at the end ({tc})")
+    mean = [lambda w, b=b: (w * vol)[body == b].sum() / vol[body == b].sum()
+            for b in range(int(body.max()) + 1)]
+    if kind == "wall":
+        return mean[0](last) / -mean[0](first)
+    return (mean[0](last) - mean[1](last)) / -(mean[0](first) - mean[1](first))
+
+
+def markdown(files):
+    """One table per (dimension, mesh, wall or pair) of the --json files: t_c and F_max errors
+    against the reference, per speed (rows) and h (columns)."""
+    rows = []
+    for fn in files:
+        with open(fn) as fh:
+            rows += [r for r in json.load(fh) if "tc" in r]
+    out = []
+    for key in sorted({(r["dim"], r["mesh"], r["pair"]) for r in rows}):
+        sel = [r for r in rows if (r["dim"], r["mesh"], r["pair"]) == key]
+        body = "disc" if key[0] == 2 else "sphere"
+        hs = sorted({r["h"] for r in sel}, reverse=True)
+        out += ["", f"{key[0]}D, {key[1]}, " + (f"two equal {body}s" if key[2] else f"a {body} on a wall")
+                + ": "
+                "t_c / F_max error (%)", "",
+                "| v (m/s) | " + " | ".join(f"h = {h * 1e3:.3g} mm" for h in hs) + " |",
+                "|---" * (len(hs) + 1) + "|"]
+        for v in sorted({r["v"] for r in sel}):
+            cells = []
+            for h in hs:
+                r = [x for x in sel if x["v"] == v and x["h"] == h]
+                cells.append(f"{100 * r[0]['tc_err']:+.1f} / {100 * r[0]['f_err']:+.1f}"
+                             if r else "-")
+            out.append(f"| {v:g} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
 
 
 def main():
@@ -140,10 +204,30 @@ def main():
     ap.add_argument("--set", action="append", default=[])
     ap.add_argument("--settings", default="{}", help="JSON: contact (dict), law, m")
     ap.add_argument("--json", default=None)
+    ap.add_argument("--restitution", default=None,
+                    help="comma-separated eps: restitution of --kinds instead of t_c, F_max")
+    ap.add_argument("--kinds", default="pair,unequal,wall")
+    ap.add_argument("--markdown", nargs="+", default=None, help="tables of these --json files")
     a = ap.parse_args()
+    if a.markdown:
+        print(markdown(a.markdown))
+        return
     runner = Runner(a.build, a.out or os.path.join(a.build, "accuracy", "hertz_surface"))
     settings = json.loads(a.settings)
     rows = []
+    if a.restitution:
+        for kind in a.kinds.split(","):
+            for eps in [float(x) for x in a.restitution.split(",")]:
+                for h in [float(x) for x in a.h.split(",")]:
+                    e = restitution_case(runner, a.dim, h, kind, eps, sets=a.set)
+                    rows.append({"dim": a.dim, "kind": kind, "eps": eps, "h": h,
+                                 "measured": e, "err": e / eps - 1})
+                    print(f"{a.dim}D {kind:7s} eps={eps:g} h={h * 1e3:.3g}mm: {e:.4f} "
+                          f"({100 * (e / eps - 1):+.2f} %)", flush=True)
+        if a.json:
+            with open(a.json, "w") as fh:
+                json.dump(rows, fh, indent=1)
+        return
     for mesh in a.mesh.split(","):
         for v in [float(x) for x in a.v.split(",")]:
             for h in [float(x) for x in a.h.split(",")]:
