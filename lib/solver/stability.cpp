@@ -4,7 +4,6 @@
 #include "core/errors.hpp"
 #include "solver/bond_kernels.hpp"
 #include "solver/contact.hpp"
-#include "solver/surface_penalty.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -402,15 +401,12 @@ double contact_lambda_bound(const model::Model& m, const State& s) {
             // node there is inside, and a facet node for, `dimension` other bodies. At 4 c / rho
             // a 2D box of 78 circles and hexagons blew up at such a triple junction after 36 ms
             // (one node at 8.9 m/s, the balance 16 % off at 0.85 x the estimate).
-            // Against a rigid wall only: wall_passes x c on the node itself; with the node's
-            // own bonds, twice that (the smaller step of bonds and contact is taken, not their
-            // sum: see Solver::stable_dt). At wall_passes = 2 a lone grain on a wall steps at
-            // 1 / 1.47 of the bonds' limit (2D gmsh disc; 1 / 1.04 with c), a pack as before.
+            // Against a rigid wall only: c on the node itself; with the node's own bonds, 2 c
+            // (the smaller step of bonds and contact is taken, not their sum: see
+            // Solver::stable_dt).
             const double rho = std::min(rho_min[a], rho_min[b]);
-            const double on_wall = 2.0 * wall_passes;
             if (std::isfinite(rho))
-                lambda = std::max(lambda, (pair ? std::max(4.0 * m.dimension, on_wall) : on_wall) *
-                                              kn / rho);
+                lambda = std::max(lambda, (pair ? 4.0 * m.dimension : 2.0) * kn / rho);
             continue;
         }
         const double h = std::min(hmin[a], hmin[b]);

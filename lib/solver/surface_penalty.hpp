@@ -24,13 +24,6 @@ namespace pd::solver {
 /// d0 / h of the surface law's onset (h: the pair's or the wall's body mesh size).
 inline constexpr double onset_share = 0.01;
 
-/// A rigid plane wall pushes with wall_passes x the pair's c: as a meshed rigid wall does, whose
-/// nodes behind the grain's facets push as well as the grain's behind its own (two passes, 2 c
-/// per unit depth). With c alone a disc on a plane wall was 10 (t_c) and 7 (F_max) points
-/// softer at h = 0.1 mm than with 2 c, and its error fell slower (issue 26; RESULTS.md "Surface
-/// law"); 2 c keeps a lone grain's step on a wall within 1.5 x the bonds' own (stability.cpp).
-inline constexpr double wall_passes = 2.0;
-
 /// The penalty at depth d >= 0: U(d) (J m-3) and U'(d) (N m-3), for stiffness c and onset d0.
 struct Penalty {
     double energy;

@@ -204,11 +204,10 @@ namespace {
 /// A node at signed distance d from a wall (d < offset: touching): its contact energy (J) and
 /// the normal force density on it (N m-3). Node law: a mirror node of the same volume,
 /// Kn (R_c - d) V (the products in the order they always had: node-law runs stay bitwise the
-/// same); surface law: the penalty of surface_penalty.hpp at depth -d with wall_passes x c,
-/// onset over 0.01 h.
+/// same); surface law: the penalty of surface_penalty.hpp at depth -d, onset over 0.01 h.
 Penalty wall_penalty(const model::ContactPair& law, double d, double vol) {
     if (law.law == model::ContactLaw::surface) {
-        const auto p = surface_penalty(wall_passes * law.stiffness, -d, onset_share * law.radius);
+        const auto p = surface_penalty(law.stiffness, -d, onset_share * law.radius);
         return {p.energy * vol, p.force};
     }
     const double g = law.radius - d;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The surface contact law (model::ContactLaw::surface, solver/surface_contact.cpp) with its auto
 // stiffness and no factor: an elastic disc on a rigid wall converges to an elastodynamic
-// reference; brittle discs that shatter on each other keep their energy.
+// reference; its restitution; brittle discs that shatter on each other keep their energy.
 #include "body_means.hpp"
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
@@ -29,15 +29,8 @@ struct Impact {
 };
 
 /// A PMB disc (R = 1 mm, E = 32.4 MPa, rho = 1200, plane stress nu = 1/3) at `v` onto a rigid
-/// floor, mesh size h, surface law, no damping. meshed: the floor a fixed grid rectangle (the
-/// pair law between the bodies) instead of a plane wall.
-Impact disc_on_wall(double h, double v, bool meshed = false) {
-    const std::string floor = meshed ? R"(, {"shape": "floor", "center": [0, )" +
-                                           std::to_string(-0.5e-3 - 0.5 * h) +
-                                           R"(], "material": "m", "fixed": true}],
-      "shapes": {"floor": {"type": "rectangle", "size": [4e-3, 1e-3], "mesh": "grid"}},)"
-                                     : R"(],
-      "walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1]}],)";
+/// floor, mesh size h, surface law, no damping.
+Impact disc_on_wall(double h, double v) {
     const std::string sc = R"({"dimension": 2,
       "materials": {"m": {"density": 1200, "youngs_modulus": 3.24e7}},
       "discretization": {"mesh_size": )" +
@@ -46,7 +39,8 @@ Impact disc_on_wall(double h, double v, bool meshed = false) {
       "particles": [{"radius": 1e-3, "center": [0, )" +
                            std::to_string(1e-3 + 0.5 * h) +
                            R"(], "material": "m", "velocity": [0, )" + std::to_string(-v) +
-                           R"(]})" + floor + R"(
+                           R"(]}],
+      "walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1]}],
       "contact": {"law": "surface"}, "solver": {"final_time": 1}})";
     auto m = pipeline::build_scene(sc, "t", quiet);
     solver::Solver s(m);
@@ -59,12 +53,11 @@ Impact disc_on_wall(double h, double v, bool meshed = false) {
         const auto o = s.observe();
         s.end_interval();
         r.beyond += o.beyond_wall;
-        const double f = meshed ? o.body_force[1] : o.wall_force[1];
-        if (f != 0) {
+        if (o.wall_force[1] != 0) {
             if (first < 0)
                 first = s.state().time - s.dt();
             last = s.state().time;
-            r.peak = std::max(r.peak, std::abs(f));
+            r.peak = std::max(r.peak, std::abs(o.wall_force[1]));
         }
     }
     r.duration = last - first;
@@ -106,15 +99,15 @@ double surface_restitution(double h, double eps, bool wall) {
 TEST(SurfaceContact, DiscOnAWallConvergesToTheElastodynamicReference) {
     // Reference (issue 26): linear plane-stress finite elements of the disc on a frictionless
     // rigid wall, graded mesh, converged to 0.2 %: t_c = 46.53 us, F_max = 259.1 N/m at 1 m/s.
-    // Measured (gmsh disc, surface correction on, auto stiffness c = kappa / h^2, the wall at
-    // 2 c, 0.85 x the automatic step): t_c +29.0 / +15.1 %, F_max -12.6 / -3.1 % at h = 0.1 /
-    // 0.05 mm (with the wall at c: +38.4 / +20.3 %, -16.7 / -9.7 %). Of the +15 %, ~8 points
-    // are the penalty's compliance: an infinitely stiff penalty (stiffness_factor 100) leaves
-    // +7.3 %, the PD disc's own (without the surface correction +26.6 %). h = 0.025 mm and the
-    // other speeds: workflows/accuracy/hertz_surface.py, RESULTS.md "Surface law". The bounds
-    // are the measured figures plus ~1 point (the node law's default: +255 % at h = 0.1 mm).
+    // Measured (gmsh disc, surface correction on, auto stiffness c = kappa / h^2, 0.85 x the
+    // automatic step): t_c +38.4 / +20.3 %, F_max -16.7 / -9.7 % at h = 0.1 / 0.05 mm. Of the
+    // +20 %, ~13 points are the penalty's compliance: an infinitely stiff penalty
+    // (stiffness_factor 100) leaves +7.3 %, the PD disc's own (without the surface correction
+    // +26.6 %). h = 0.025 mm, the other speeds, two discs, 3D: workflows/accuracy/SURFACE_LAW.md
+    // (hertz_surface.py). The bounds are the measured figures plus ~1 point (the node law's
+    // default: +255 % at h = 0.1 mm).
     const double tc = 46.53e-6, fmax = 259.1;
-    const double bound_t[2] = {0.30, 0.16}, bound_f[2] = {0.135, 0.04};
+    const double bound_t[2] = {0.40, 0.215}, bound_f[2] = {0.18, 0.11};
     double prev_t = 1e9, prev_f = 1e9;
     int level = 0;
     for (double h : {1e-4, 5e-5}) {
@@ -135,23 +128,11 @@ TEST(SurfaceContact, DiscOnAWallConvergesToTheElastodynamicReference) {
     }
 }
 
-TEST(SurfaceContact, PlaneWallPushesAsAMeshedRigidFloor) {
-    // A fixed meshed floor pushes with both passes (the disc's nodes behind its facets, its
-    // nodes behind the disc's), 2 c per unit depth; the plane wall does so with wall_passes = 2
-    // (surface_penalty.hpp). Measured at 1 m/s, h = 0.1 mm: t_c +29.0 % (plane) and +28.9 %
-    // (floor), F_max -12.6 / -10.4 %; with the plane wall at c it was +38.4 / -16.7 %.
-    const auto plane = disc_on_wall(1e-4, 1.0), floor = disc_on_wall(1e-4, 1.0, true);
-    std::printf("[ plane / meshed floor ] t_c %.2f / %.2f us, F_max %.1f / %.1f N/m\n",
-                plane.duration * 1e6, floor.duration * 1e6, plane.peak, floor.peak);
-    EXPECT_NEAR(plane.duration / floor.duration, 1.0, 0.01);
-    EXPECT_NEAR(plane.peak / floor.peak, 1.0, 0.04);
-}
-
 TEST(SurfaceContact, RestitutionAtTheCoarseLevel) {
-    // Issue 26 item 4 at h = 0.1 mm, gmsh discs at 1 m/s. Measured: -0.29 to -0.98 % (two discs
-    // -0.60 / -0.43 / -0.78 / -0.98 %, on a wall -0.31 / -0.29 / -0.45 / -0.60 % at eps = 0.5 /
-    // 0.8 / 0.95 / 1); finer meshes lose more to the grains' vibration (h = 0.025 mm: to -1.9 %,
-    // R on R/2 to -3.0 %; hertz_surface.py --restitution, workflows/accuracy/SURFACE_LAW.md).
+    // Issue 26 item 4 at h = 0.1 mm, gmsh discs at 1 m/s. Measured: two discs -0.60 / -0.43 /
+    // -0.78 / -0.98 %, on a wall -0.09 / -0.17 / -0.21 / -0.23 % at eps = 0.5 / 0.8 / 0.95 / 1;
+    // finer meshes lose more to the grains' vibration (h = 0.025 mm: to -1.9 %, R on R/2 to
+    // -3.0 %; hertz_surface.py --restitution, workflows/accuracy/SURFACE_LAW.md).
     for (double eps : {0.5, 0.8, 0.95, 1.0})
         for (bool wall : {false, true}) {
             const double e = surface_restitution(1e-4, eps, wall);
