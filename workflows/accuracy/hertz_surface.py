@@ -7,7 +7,12 @@ R = 1 mm, E = 32.4 MPa, rho = 1200, PMB, m = 3, no damping, at three speeds and 
 
   /usr/bin/python3 workflows/accuracy/hertz_surface.py [--build build] [--out DIR]
       [--dim 2] [--h 1e-4,5e-5] [--v 0.1,1,5] [--mesh grid,gmsh,rot17] [--pair]
-      [--set key=value ...] [--json FILE]
+      [--set key=value ...] [--settings JSON] [--json FILE]
+  /usr/bin/python3 workflows/accuracy/hertz_surface.py --restitution 0.5,0.8,0.95,1
+      [--kinds pair,unequal,wall] [--dim 2] [--h ...] [--json FILE]
+  /usr/bin/python3 workflows/accuracy/hertz_surface.py --markdown FILE.json ...
+
+Tables and the error's decomposition: SURFACE_LAW.md.
 
 The reference values are the issue's finite-element figures (linear elastodynamics, graded
 mesh, converged to 0.2 %). Disc on a wall: t_c from the wall force (observed every step: first
