@@ -565,7 +565,9 @@ there. `"radius_factor": 4` is the documented remedy (not used in this table).
 
 PLACEHOLDERS = [
     ("Contact duration of a 3D sphere vs Hertz (t ~ v^-1/5)",
-     "not run: the formula is in `hertz_duration(v, 3)`; a sphere at h = R / 40 is ~33 k nodes"),
+     "the node law's: not run (the formula is in `hertz_duration(v, 3)`); the surface law's t_c "
+     "and F_max against issue 26's elastodynamic reference, 2D and 3D: SURFACE_LAW.md "
+     "(hertz_surface.py)"),
     ("Crack path of a pre-notched plate (Kalthoff-Winkler, 68-72 deg)",
      "provided by the Kalthoff-Winkler example (another issue)"),
     ("n500 reaction curve at two resolutions", "provided by the n500 example (another issue)"),

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The surface contact law (model::ContactLaw::surface, solver/surface_contact.cpp) with its auto
 // stiffness and no factor: an elastic disc on a rigid wall converges to an elastodynamic
-// reference; brittle discs that shatter on each other keep their energy.
+// reference; its restitution; brittle discs that shatter on each other keep their energy.
+#include "body_means.hpp"
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
 #include "solver/solver.hpp"
@@ -63,26 +64,82 @@ Impact disc_on_wall(double h, double v) {
     return r;
 }
 
+/// Rebound / impact speed of a gmsh disc (R = 1 mm, PMB, h) at 1 m/s on a plane wall, or of two
+/// equal ones head-on at +-1 m/s, surface law with restitution eps: centres of mass once apart.
+double surface_restitution(double h, double eps, bool wall) {
+    const std::string sc = fmt::format(
+        R"({{"dimension": 2, "materials": {{"m": {{"density": 1200, "youngs_modulus": 3.24e7}}}},
+      "discretization": {{"mesh_size": {}, "horizon_factor": 3}},
+      "particles": [{{"radius": 1e-3, "center": [0, {}], "material": "m", "velocity": [0, -1]}}
+                    {}],
+      {} "contact": {{"law": "surface", "restitution": {}}}, "solver": {{"final_time": 1}}}})",
+        h, 1e-3 + 0.05 * h,
+        wall ? ""
+             : fmt::format(R"(, {{"radius": 1e-3, "center": [0, {}], "material": "m",
+                                       "velocity": [0, 1], "orientation": 0.5}})",
+                           -1e-3 - 0.05 * h),
+        wall ? R"("walls": [{"type": "plane", "point": [0, 0], "normal": [0, 1]}],)" : "", eps);
+    auto m = pipeline::build_scene(sc, "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(0.85 * s.stable_dt().limit);
+    s.initialize();
+    bool touched = false;
+    for (int k = 0; k < 200000; ++k) {
+        s.advance();
+        const auto n = s.observe().contact_count;
+        touched = touched || n > 0;
+        if (touched && n == 0)
+            break;
+    }
+    EXPECT_TRUE(touched);
+    const double v0 = test::com(m, s.state(), 0, s.state().v)[1];
+    return wall ? v0 : (v0 - test::com(m, s.state(), 1, s.state().v)[1]) / 2;
+}
+
 TEST(SurfaceContact, DiscOnAWallConvergesToTheElastodynamicReference) {
     // Reference (issue 26): linear plane-stress finite elements of the disc on a frictionless
     // rigid wall, graded mesh, converged to 0.2 %: t_c = 46.53 us, F_max = 259.1 N/m at 1 m/s.
-    // Measured with the auto stiffness c = kappa / h^2: t_c +35.2 / +19.5 %, F_max -16.0 / -9.1 %
-    // at h = 0.1 / 0.05 mm (the node-to-node law's default: +255 % at h = 0.1 mm).
+    // Measured (gmsh disc, surface correction on, auto stiffness c = kappa / h^2, 0.85 x the
+    // automatic step): t_c +38.4 / +20.3 %, F_max -16.7 / -9.7 % at h = 0.1 / 0.05 mm. Of the
+    // +20 %, ~13 points are the penalty's compliance: an infinitely stiff penalty
+    // (stiffness_factor 100) leaves +7.3 %, the PD disc's own (without the surface correction
+    // +26.6 %). h = 0.025 mm, the other speeds, two discs, 3D: workflows/accuracy/SURFACE_LAW.md
+    // (hertz_surface.py). The bounds are the measured figures plus ~1 point (the node law's
+    // default: +255 % at h = 0.1 mm).
     const double tc = 46.53e-6, fmax = 259.1;
+    const double bound_t[2] = {0.40, 0.215}, bound_f[2] = {0.18, 0.11};
     double prev_t = 1e9, prev_f = 1e9;
+    int level = 0;
     for (double h : {1e-4, 5e-5}) {
         const auto r = disc_on_wall(h, 1.0);
         const double et = r.duration / tc - 1, ef = r.peak / fmax - 1;
         std::printf("[ disc on wall ] h = %.3g mm: t_c %+.1f %%, F_max %+.1f %%\n", h * 1e3,
                     100 * et, 100 * ef);
         EXPECT_EQ(r.beyond, 0) << "a node went h/2 through the wall";
+        EXPECT_GT(et, 0) << "the PD disc and the penalty are softer than the reference";
+        EXPECT_LT(ef, 0);
         EXPECT_LT(std::abs(et), prev_t) << "t_c does not converge";
         EXPECT_LT(std::abs(ef), prev_f) << "F_max does not converge";
+        EXPECT_LT(std::abs(et), bound_t[level]) << "h = " << h;
+        EXPECT_LT(std::abs(ef), bound_f[level]) << "h = " << h;
         prev_t = std::abs(et);
         prev_f = std::abs(ef);
+        ++level;
     }
-    EXPECT_LT(prev_t, 0.22);
-    EXPECT_LT(prev_f, 0.12);
+}
+
+TEST(SurfaceContact, RestitutionAtTheCoarseLevel) {
+    // Issue 26 item 4 at h = 0.1 mm, gmsh discs at 1 m/s. Measured: two discs -0.60 / -0.43 /
+    // -0.78 / -0.98 %, on a wall -0.09 / -0.17 / -0.21 / -0.23 % at eps = 0.5 / 0.8 / 0.95 / 1;
+    // finer meshes lose more to the grains' vibration (h = 0.025 mm: to -1.9 %, R on R/2 to
+    // -3.0 %; hertz_surface.py --restitution, workflows/accuracy/SURFACE_LAW.md).
+    for (double eps : {0.5, 0.8, 0.95, 1.0})
+        for (bool wall : {false, true}) {
+            const double e = surface_restitution(1e-4, eps, wall);
+            std::printf("[ restitution ] %s eps %.2f: %.4f (%+.2f %%)\n",
+                        wall ? "disc on wall" : "two discs", eps, e, 100 * (e / eps - 1));
+            EXPECT_NEAR(e, eps, 0.015 * eps) << (wall ? "wall" : "two discs");
+        }
 }
 
 TEST(SurfaceContact, ShatteringDiscsKeepTheirEnergy) {
