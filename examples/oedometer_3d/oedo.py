@@ -12,18 +12,25 @@ Stress: the force the grains push on the plate (the rigid wall named "plate",
 (walls x0, x1, y0, y1). Strain: the plate's travel since it entered (/walls/start_time; it
 enters at /walls/point, placed there by pd-solve, "enter": "above_grains") over the height it
 entered at above the floor, H0. The stress is averaged over a centred strain window W (default
-0.01). Onset: the strain from which on the smoothed stress stays above 5 % of its final value
-(the loose lattice collapses first: the plate touches grains that then fall away).
+0.01). First peak: the largest smoothed stress before the curve first falls more than PEAK_DROP
+(0.3) below its running maximum, counted once that maximum has reached PEAK_LEAST (0.2) of the
+run's largest stress (the loose lattice collapses first: the plate touches grains that then fall
+away); the lowest stress after it, before the stress climbs back above it. Onset: the strain
+from which on the smoothed stress stays above 5 % of the first peak up to it.
 
 With --analysis DIR (workflows/analysis) the run's physics checks (check_run.py) are added:
 the deepest penetration of a node into another grain or behind a wall and the energy balance.
+With fragments.csv next to psd.csv: the fastest centre of mass of a resolved piece (>=
+--fines-nodes nodes) and of a grain's fines.
 
---check REF.json: the quick run's checks (make quick), bounds in REF.json; exit 1 when one
-fails: the stress rises (final / at the middle of the loading after the onset >= rise_min),
-monotone within noise after the onset (largest fall of the smoothed stress below its running
-maximum <= drop_max of it), the final stress within final_stress_band (Pa), B_r > 0 at the
-end and above B_r at the onset (the last frame at or before it), and check_run.py's checks
-named in check_run pass. Reported, not checked: KE / (elastic + contact) and the inertial number
+--check REF.json: the quick run's checks (make quick), bounds in REF.json (README, "make quick",
+for each bound's derivation); exit 1 when one fails: the first peak within peak_factor of the
+estimate columns x E s0 h^2 / area and rise_min x the stress halfway from the onset to it; the
+fall after it >= peak_fall_min with B_r higher at its lowest point than at the peak; the final
+stress >= end_over_peak_min x the first peak; B_r never falls from frame to frame, reaches
+B_r_end_min, and B_r at the onset <= onset_over_end_max x B_r at the end; the resolved pieces'
+centre-of-mass speed within check_run.py's speed bound; check_run.py's checks named in
+check_run pass. Reported, not checked: KE / (elastic + contact) and the inertial number
 I = (v / H0) d sqrt(rho / stress) at the end (quasi-static: I < 1e-3)."""
 import argparse
 import json
@@ -33,6 +40,11 @@ import sys
 import h5py
 import numpy as np
 
+# The first peak: the largest smoothed stress before the curve first falls more than this
+# fraction below its running maximum (a yield-like drop as grains chip and the columns give way).
+PEAK_DROP = 0.3
+# ... counted once the running maximum has reached this fraction of the run's largest stress.
+PEAK_LEAST = 0.2
 ENERGIES = ("kinetic_energy", "elastic_energy", "contact_energy", "external_work",
             "fracture_energy", "friction_dissipation", "damping_dissipation", "broken_bonds")
 
@@ -79,6 +91,7 @@ def read(path):
         r["nodes"] = int(f["nodes/volume"].shape[0])
         r["grains"] = int(f["bodies/kind"].shape[0])
         r["d_mean"] = 2.0 * float(np.mean(f["bodies/bounding_radius"][()]))
+        r["delta"] = float(f["bodies/horizon"][()].max())
     r["u"] = speed * np.maximum(t - t1, 0.0)
     r["strain"] = r["u"] / r["H0"]
     r["stress"] = r["force"] / area
@@ -99,24 +112,42 @@ def read_psd(path):
     return {k: np.atleast_1d(d[k]) for k in d.dtype.names}
 
 
-def curve(r, window):
-    """The loading part (t >= t1): strain, raw and smoothed stress, onset index."""
+def first_peak(sm, drop, least=PEAK_LEAST):
+    """Index of the first peak of the smoothed stress: the largest value before the curve first
+    falls more than `drop` of its running maximum once that maximum has passed `least` of the
+    largest stress of the run (the transients of the collapsing lattice stay below; the last
+    index when it never falls), and the index of the lowest value after it, before the stress
+    climbs back above the peak."""
+    runmax = np.maximum.accumulate(sm)
+    fall = np.flatnonzero((sm < (1.0 - drop) * runmax) & (runmax >= least * sm.max()))
+    if not len(fall):
+        return len(sm) - 1, len(sm) - 1
+    p = int(np.argmax(sm[:fall[0]]))
+    back = np.flatnonzero(sm[p + 1:] > sm[p])
+    end = p + 1 + int(back[0]) if len(back) else len(sm)
+    return p, p + int(np.argmin(sm[p:end]))
+
+
+def curve(r, window, drop=PEAK_DROP):
+    """The loading part (t >= t1): strain, raw and smoothed stress, onset index, first peak
+    index, the lowest index after it. Onset: the first index from which on the smoothed stress
+    stays above 5 % of the first peak up to it."""
     on = r["t"] >= r["t1"]
     e, s = r["strain"][on], r["stress"][on]
     sm = smooth(e, s, window)
-    final = float(sm[-1])
-    below = np.flatnonzero(sm < 0.05 * final)
+    p, low = first_peak(sm, drop)
+    below = np.flatnonzero(sm[:p + 1] < 0.05 * sm[p])
     onset = int(below[-1]) + 1 if len(below) else 0
-    return on, e, s, sm, min(onset, len(sm) - 1)
+    return on, e, s, sm, min(onset, p), p, low
 
 
 def stress_figures(r, window):
-    on, e, s, sm, onset = curve(r, window)
+    on, e, s, sm, onset, p, low = curve(r, window)
     final = float(sm[-1])
     after = sm[onset:]
     runmax = np.maximum.accumulate(after)
     drop = float(np.max((runmax - after) / np.maximum(runmax, 1e-300)))
-    mid = onset + (len(sm) - 1 - onset) // 2
+    mid = onset + (p - onset) // 2
     ke = r["kinetic_energy"][on][onset:]
     stored = (r["elastic_energy"] + r["contact_energy"])[on][onset:]
     c = np.sqrt(r["E"] / r["rho"])
@@ -124,12 +155,19 @@ def stress_figures(r, window):
     # 2004): quasi-static below ~1e-3
     inertial = r["speed"] / r["H0"] * r["d_mean"] * np.sqrt(r["rho"] / max(float(sm[-1]), 1e-300))
     return {"grains": r["grains"], "nodes": r["nodes"], "H0": r["H0"], "area": r["area"],
-            "plate_speed": r["speed"], "wave_speed": float(c),
+            "plate_speed": r["speed"], "wave_speed": float(c), "s0": float(r["s0"]),
+            "youngs_modulus": r["E"], "horizon": r["delta"],
             "speed_over_wave": r["speed"] / c,
             "speed_over_wave_s0": r["speed"] / (c * r["s0"]) if r["s0"] > 0 else float("nan"),
             "strain_end": float(e[-1]), "onset_strain": float(e[onset]),
             "stress_end": final, "stress_max": float(sm.max()), "stress_mid": float(sm[mid]),
-            "strain_mid": float(e[mid]), "rise_ratio": final / max(float(sm[mid]), 1e-300),
+            "strain_mid": float(e[mid]), "rise_ratio": float(sm[p]) / max(float(sm[mid]), 1e-300),
+            "peak_strain": float(e[p]), "peak_stress": float(sm[p]), "low_strain": float(e[low]),
+            "low_stress": float(sm[low]), "peak_fall": 1.0 - float(sm[low]) / max(float(sm[p]),
+                                                                                   1e-300),
+            "end_over_peak": final / max(float(sm[p]), 1e-300), "peak_time": float(
+                r["t"][on][p]), "low_time": float(r["t"][on][low]), "onset_time": float(
+                r["t"][on][onset]),
             "max_drop": drop, "stress_at": {"%.2f" % q: float(np.interp(q, e, sm))
                                             for q in np.arange(0.02, e[-1] + 1e-9, 0.02)},
             "ke_over_stored_max": float(np.max(ke / np.maximum(stored, 1e-300))),
@@ -138,26 +176,46 @@ def stress_figures(r, window):
             "d_mean": r["d_mean"]}
 
 
-def breakage_figures(r, psd, window):
-    """B_r against the smoothed stress at the psd frames."""
-    on, e, s, sm, onset = curve(r, window)
+def br_at(psd, t):
+    """B_r of the last psd frame at or before time t."""
+    return float(psd["B_r"][max(int(np.searchsorted(psd["time"], t, side="right")) - 1, 0)])
+
+
+def breakage_figures(r, psd, window, res):
+    """B_r against the smoothed stress at the psd frames; B_r at the onset, the first peak and
+    the lowest stress after it; the largest fall of B_r from one frame to the next."""
+    on, e, s, sm, onset, p, low = curve(r, window)
     tt = r["t"][on]
     st = np.where(psd["time"] >= r["t1"], np.interp(psd["time"], tt, sm), 0.0)
     br = psd["B_r"]
-    final = float(sm[-1])
-    low = np.flatnonzero(st <= 0.5 * final)
-    k = int(low[-1]) if len(low) else 0
-    j = max(int(np.searchsorted(psd["time"], tt[onset], side="right")) - 1, 0)
-    return {"B_r_end": float(br[-1]), "B_r_at_half_stress": float(br[k]),
-            "half_stress_frame_stress": float(st[k]), "half_stress_frame_time": float(
-                psd["time"][k]), "B_r_at_onset": float(br[j]), "onset_frame_time": float(
-                psd["time"][j]), "onset_frame_stress": float(st[j]),
+    return {"B_r_end": float(br[-1]), "B_r_at_onset": br_at(psd, tt[onset]),
+            "B_r_at_peak": br_at(psd, tt[p]), "B_r_at_low": br_at(psd, tt[low]),
+            "B_r_largest_fall": float(max(np.max(br[:-1] - br[1:], initial=0.0), 0.0)),
             "fines_mass_end": float(psd["fines_mass"][-1]),
             "fragments_end": int(psd["fragments"][-1]),
+            "largest_over_parent_min_end": float(psd["largest_over_parent_min"][-1]),
             "fines_end": int(psd["fines"][-1]), "d50_end": float(psd["d50"][-1]),
             "d50_start": float(psd["d50"][0]), "frames": [
                 {"time": float(psd["time"][j]), "stress": float(st[j]), "B_r": float(br[j])}
                 for j in range(len(br))]}
+
+
+def fragment_speeds(path, fines_nodes):
+    """The fastest centre-of-mass speed of a resolved piece (>= fines_nodes nodes, rows of
+    fragments.csv with fragment >= 0) and of a fine (a piece below), over every frame, with
+    where they happened."""
+    d = np.genfromtxt(path, delimiter=",", names=True, comments="#")
+    v = np.sqrt(d["vx"] ** 2 + d["vy"] ** 2 + d["vz"] ** 2)
+    big = (d["fragment"] >= 0) & (d["nodes"] >= fines_nodes)
+    out = {}
+    for key, sel in (("piece", big), ("fine", ~big)):
+        if not sel.any():
+            out[key] = {"speed": 0.0}
+            continue
+        k = np.flatnonzero(sel)[int(np.argmax(v[sel]))]
+        out[key] = {"speed": float(v[k]), "time": float(d["time"][k]), "body": int(d["body"][k]),
+                    "nodes": int(d["nodes"][k]), "mass": float(d["mass"][k])}
+    return out
 
 
 def physics(path, analysis):
@@ -170,30 +228,54 @@ def physics(path, analysis):
     return out
 
 
+def peak_estimate(res, ref):
+    """The bed stress at which a grain column's contact reaches the bonds' strength: each of the
+    ref["columns"] columns carries stress x area / columns through a contact of one node's face,
+    h^2 (h = horizon / horizon_factor), and its bonds fail when the contact stress reaches
+    E s0 (Pa)."""
+    h = res["horizon"] / ref["horizon_factor"]
+    return ref["columns"] * res["youngs_modulus"] * res["s0"] * h * h / res["area"]
+
+
 def check(res, ref):
     """The quick run's checks: [(name, ok, text)]."""
     c = []
-    c.append(("stress rises", res["rise_ratio"] >= ref["rise_min"],
-              "final stress %.4g kPa = %.3f x the stress %.4g kPa at strain %.4f (>= %g)"
-              % (res["stress_end"] / 1e3, res["rise_ratio"], res["stress_mid"] / 1e3,
-                 res["strain_mid"], ref["rise_min"])))
-    c.append(("monotone after onset", res["max_drop"] <= ref["drop_max"],
-              "largest fall below the running maximum after the onset (strain %.4f): %.3f "
-              "(<= %g)" % (res["onset_strain"], res["max_drop"], ref["drop_max"])))
-    lo, hi = ref["final_stress_band"]
-    c.append(("final stress", lo <= res["stress_end"] <= hi,
-              "%.4g kPa at strain %.4f (band %g-%g kPa)" % (res["stress_end"] / 1e3,
-                                                          res["strain_end"], lo / 1e3,
-                                                          hi / 1e3)))
-    c.append(("B_r > 0", res["B_r_end"] > 0, "B_r at the end %.4g" % res["B_r_end"]))
-    c.append(("B_r rises with stress", res["B_r_end"] > res["B_r_at_onset"],
-              "B_r %.4g at the end (%.4g kPa) > %.4g at the onset (t = %.3g ms, %.4g kPa)" % (
-                  res["B_r_end"], res["stress_end"] / 1e3, res["B_r_at_onset"],
-                  res["onset_frame_time"] * 1e3, res["onset_frame_stress"] / 1e3)))
-    for name, ch in res.get("checks", {}).items():
+    est = peak_estimate(res, ref)
+    lo, hi = est / ref["peak_factor"], est * ref["peak_factor"]
+    c.append(("first peak", lo <= res["peak_stress"] <= hi and res["rise_ratio"] >= ref[
+        "rise_min"], "%.4g kPa at strain %.4f (estimate %.3g kPa, band %.3g-%.3g); %.3f x the "
+        "stress halfway from the onset (>= %g)" % (res["peak_stress"] / 1e3, res["peak_strain"],
+                                                   est / 1e3, lo / 1e3, hi / 1e3,
+                                                   res["rise_ratio"], ref["rise_min"])))
+    c.append(("yield-like drop with breakage", res["peak_fall"] >= ref["peak_fall_min"]
+              and res["B_r_at_low"] > res["B_r_at_peak"],
+              "the stress falls %.3f of the peak (>= %g) to %.4g kPa at strain %.4f; B_r %.4g "
+              "there > %.4g at the peak" % (res["peak_fall"], ref["peak_fall_min"],
+                                            res["low_stress"] / 1e3, res["low_strain"],
+                                            res["B_r_at_low"], res["B_r_at_peak"])))
+    c.append(("hardens again", res["end_over_peak"] >= ref["end_over_peak_min"],
+              "final stress %.4g kPa at strain %.4f = %.3f x the first peak (>= %g)" % (
+                  res["stress_end"] / 1e3, res["strain_end"], res["end_over_peak"],
+                  ref["end_over_peak_min"])))
+    c.append(("B_r never falls", res["B_r_largest_fall"] <= 1e-12,
+              "largest fall from one frame to the next %.3g" % res["B_r_largest_fall"]))
+    c.append(("B_r rises with stress", res["B_r_end"] >= ref["B_r_end_min"]
+              and res["B_r_at_onset"] <= ref["onset_over_end_max"] * res["B_r_end"],
+              "B_r %.4g at the end (%.4g kPa; >= %g), %.4g at the peak, %.4g at the onset "
+              "(strain %.4f; <= %g x the end)" % (
+                  res["B_r_end"], res["stress_end"] / 1e3, ref["B_r_end_min"],
+                  res["B_r_at_peak"], res["B_r_at_onset"], res["onset_strain"],
+                  ref["onset_over_end_max"])))
+    checks = res.get("checks", {})
+    for name, ch in checks.items():
         if ch["ok"] is not None and name in ref["check_run"]:
             c.append(("check_run " + name, bool(ch["ok"]), "%.4g (bound %.4g)" % (
                 ch["value"], ch["bound"])))
+    if "speed_bound" in checks and "fragment_speed" in res:
+        piece, bound = res["fragment_speed"]["piece"], checks["speed_bound"]["bound"]
+        c.append(("resolved pieces' speed", piece["speed"] <= bound,
+                  "fastest centre of mass of a piece of >= %d nodes %.3g m/s (bound %.3g, "
+                  "check_run's speed bound)" % (ref["fines_nodes"], piece["speed"], bound)))
     return c
 
 
@@ -201,11 +283,13 @@ def plot(r, res, window, png):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    on, e, s, sm, onset = curve(r, window)
+    on, e, s, sm, onset, p, low = curve(r, window)
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].plot(e * 100, s / 1e3, "-", lw=0.5, color="0.7", label="plate reaction / area")
     ax[0].plot(e * 100, sm / 1e3, "-", lw=1.5, label="smoothed (strain window %g)" % window)
     ax[0].axvline(e[onset] * 100, color="grey", ls=":", lw=0.8, label="onset")
+    ax[0].plot(e[[p, low]] * 100, sm[[p, low]] / 1e3, "v", color="C3", ms=5,
+               label="first peak, lowest after it")
     ax[0].set_xlabel("vertical strain (%)")
     ax[0].set_ylabel("vertical stress (kPa)")
     ax[0].legend(fontsize=7)
@@ -221,7 +305,7 @@ def plot(r, res, window, png):
 
 
 def write_csv(r, window, path):
-    on, e, s, sm, _ = curve(r, window)
+    on, e, s, sm, _, _, _ = curve(r, window)
     with open(path, "w") as out:
         out.write("time,strain,stress,stress_smoothed,kinetic_energy,elastic_energy,"
                   "contact_energy,broken_bonds\n")
@@ -229,6 +313,30 @@ def write_csv(r, window, path):
             out.write("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n" % (
                 r["t"][i], e[j], s[j], sm[j], r["kinetic_energy"][i], r["elastic_energy"][i],
                 r["contact_energy"][i], r["broken_bonds"][i]))
+
+
+def report(path, res):
+    print("%s: %d grains, %d nodes, H0 = %.3f mm, plate at %.3g m/s (%.2e c, %.3f c s0)" % (
+        path, res["grains"], res["nodes"], res["H0"] * 1e3, res["plate_speed"],
+        res["speed_over_wave"], res["speed_over_wave_s0"]))
+    print("KE / (elastic + contact) at the end %.3g; inertial number %.3g; v / c %.2e"
+          % (res["ke_over_stored_end"], res["inertial_number_end"], res["speed_over_wave"]))
+    print("onset at strain %.4f; first peak %.4g kPa at strain %.4f, falls %.3f to %.4g kPa at "
+          "%.4f; stress %.4g kPa at strain %.4f (max %.4g kPa)" % (
+              res["onset_strain"], res["peak_stress"] / 1e3, res["peak_strain"],
+              res["peak_fall"], res["low_stress"] / 1e3, res["low_strain"],
+              res["stress_end"] / 1e3, res["strain_end"], res["stress_max"] / 1e3))
+    print("B_r %.4g at the end, %.4g at the lowest stress after the peak, %.4g at the peak, "
+          "%.4g at the onset; %d fragments, %d fines (%.3g kg), largest piece / its grain >= "
+          "%.3f; broken bonds %d" % (res["B_r_end"], res["B_r_at_low"], res["B_r_at_peak"],
+                                     res["B_r_at_onset"], res["fragments_end"], res["fines_end"],
+                                     res["fines_mass_end"], res["largest_over_parent_min_end"],
+                                     res["broken_bonds_end"]))
+    for key, q in res.get("fragment_speed", {}).items():
+        if q["speed"] > 0:
+            print("fastest %s (centre of mass): %.3g m/s at %.4g ms, grain %d, %d nodes, %.3g kg"
+                  % ("resolved piece" if key == "piece" else "fines of a grain", q["speed"],
+                     q["time"] * 1e3, q["body"], q["nodes"], q["mass"]))
 
 
 def main():
@@ -241,25 +349,17 @@ def main():
     ap.add_argument("--json")
     ap.add_argument("--check", help="bounds of the quick run (JSON)")
     ap.add_argument("--analysis", help="workflows/analysis (adds check_run.py's checks)")
+    ap.add_argument("--fines-nodes", type=int, default=10, help="as pd-post --fines-nodes")
     a = ap.parse_args()
     r = read(a.file)
     res = stress_figures(r, a.window)
-    res.update(breakage_figures(r, read_psd(a.psd), a.window))
+    res.update(breakage_figures(r, read_psd(a.psd), a.window, res))
+    frag = os.path.join(os.path.dirname(a.psd), "fragments.csv")
+    if os.path.exists(frag):
+        res["fragment_speed"] = fragment_speeds(frag, a.fines_nodes)
     if a.analysis:
         res["checks"] = physics(a.file, os.path.abspath(a.analysis))
-    print("%s: %d grains, %d nodes, H0 = %.3f mm, plate at %.3g m/s (%.2e c, %.3f c s0)" % (
-        a.file, res["grains"], res["nodes"], res["H0"] * 1e3, res["plate_speed"],
-        res["speed_over_wave"], res["speed_over_wave_s0"]))
-    print("KE / (elastic + contact) at the end %.3g; inertial number %.3g; v / c %.2e"
-          % (res["ke_over_stored_end"], res["inertial_number_end"], res["speed_over_wave"]))
-    print("onset at strain %.4f; stress %.4g kPa at strain %.4f (max %.4g kPa); rise %.3f, "
-          "largest fall %.3f" % (res["onset_strain"], res["stress_end"] / 1e3,
-                                 res["strain_end"], res["stress_max"] / 1e3,
-                                 res["rise_ratio"], res["max_drop"]))
-    print("B_r %.4g at the end, %.4g at %.4g kPa, %.4g at the onset; %d fragments, %d fines; "
-          "broken bonds %d" % (res["B_r_end"], res["B_r_at_half_stress"],
-                               res["half_stress_frame_stress"] / 1e3, res["B_r_at_onset"],
-                               res["fragments_end"], res["fines_end"], res["broken_bonds_end"]))
+    report(a.file, res)
     if a.png:
         plot(r, res, a.window, a.png)
     if a.csv:
