@@ -89,6 +89,14 @@ class ContactList {
         built_ = false;
         touched_known_ = false; // rows may have changed ranks: no history (surface_row)
     }
+    /// The surface law's depth history (surface_history.cpp) for a checkpoint: the owned nodes'
+    /// (node, body) pairs and depths of the last evaluation and its time; time < 0 when none is
+    /// known (before the first evaluation, after a change of ownership).
+    void depth_history(std::vector<std::int64_t>& pairs, std::vector<double>& depths,
+                       double& time) const;
+    /// Continues from a checkpoint's history (every rank's entries: a superset of its rows').
+    void set_depth_history(const std::vector<std::int64_t>& pairs,
+                           const std::vector<double>& depths, double time);
     /// Appends the candidates owned by other ranks (ghosts the contact forces read).
     void ghosts(std::vector<index_t>& out) const;
     /// Adds normal contact force densities to s.f; returns the number of node pairs in contact

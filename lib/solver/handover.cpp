@@ -45,6 +45,16 @@ void Solver::restore(std::int64_t step, double time, const std::vector<double>& 
                                      broken_total, f_.dom->sum(f_.broken_total)));
 }
 
+void Solver::surface_depths(std::vector<std::int64_t>& pairs, std::vector<double>& depths,
+                            double& time) const {
+    f_.contact->depth_history(pairs, depths, time);
+}
+
+void Solver::set_surface_depths(const std::vector<std::int64_t>& pairs,
+                                const std::vector<double>& depths, double time) {
+    f_.contact->set_depth_history(pairs, depths, time);
+}
+
 void Solver::redistribute(Domain* dom) {
     // Everything where its old owner has it, on every rank.
     f_.dom->allgather(f_.s.x, 3);

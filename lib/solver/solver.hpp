@@ -102,6 +102,12 @@ class Solver {
     void restore(std::int64_t step, double time, const std::vector<double>& u,
                  const std::vector<double>& v, const std::vector<double>& f,
                  const std::vector<std::uint8_t>& alive, std::int64_t broken_total);
+    /// The surface law's depth history (ContactList::depth_history): this rank's entries for a
+    /// checkpoint, and a restart's continuation from every rank's.
+    void surface_depths(std::vector<std::int64_t>& pairs, std::vector<double>& depths,
+                        double& time) const;
+    void set_surface_depths(const std::vector<std::int64_t>& pairs,
+                            const std::vector<double>& depths, double time);
     /// Hands the nodes over to another decomposition of the same ranks (re-partitioning at a
     /// checkpoint): every rank first receives the whole state, then keeps computing its new
     /// rows. Collective; the run continues exactly as it would have. `dom` must outlive the

@@ -48,6 +48,16 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.set_attr(g, "interval_steps", c.interval_steps);
     if (!c.interval_sum.empty())
         f.set_attr(g, "interval_sum", c.interval_sum);
+    if (c.depth_time >= 0) {
+        f.set_attr(g, "surface_depth_time", c.depth_time);
+        const std::uint64_t k = c.depths.size();
+        const h5::runs_t all{{0, k}};
+        const auto& mine = c.depth_runs.empty() ? all : c.depth_runs;
+        f.write_runs<std::int64_t>(g + "/surface_depth_pairs", c.depth_pairs, {k, 2}, mine);
+        f.set_attr(g + "/surface_depth_pairs", "unit", "1");
+        f.write_runs<double>(g + "/surface_depths", c.depths, {k}, mine);
+        f.set_attr(g + "/surface_depths", "unit", "m");
+    }
     f.set_attr(g, "complete", std::int32_t{1});
     f.flush();
     f.set_attr(root, "latest", name);
@@ -80,6 +90,21 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
         c.interval_steps = f.attr<std::int64_t>(g, "interval_steps");
     if (f.has_attr(g, "interval_sum"))
         c.interval_sum = f.attr_vector<double>(g, "interval_sum");
+    if (f.has_attr(g, "surface_depth_time")) {
+        c.depth_time = f.attr<double>(g, "surface_depth_time");
+        c.depth_pairs = f.read<std::int64_t>(g + "/surface_depth_pairs");
+        c.depths = f.read<double>(g + "/surface_depths");
+        if (!(c.depth_time >= 0 && c.depth_time <= c.time) ||
+            c.depth_pairs.size() != 2 * c.depths.size())
+            throw SchemaError(f.name(), g + "/surface_depths",
+                              "the depth history does not match its pairs or its time");
+        for (std::size_t k = 0; k < c.depths.size(); ++k)
+            if (!std::isfinite(c.depths[k]) || c.depths[k] < 0 || c.depth_pairs[2 * k] < 0 ||
+                static_cast<std::size_t>(c.depth_pairs[2 * k]) >= num_nodes ||
+                c.depth_pairs[2 * k + 1] < 0)
+                throw SchemaError(f.name(), g + "/surface_depths",
+                                  fmt::format("entry {}: not a node, body and depth >= 0", k));
+    }
     if (c.interval_steps < 0 || c.interval_steps > c.step)
         throw SchemaError(f.name(), g + "@interval_steps",
                           fmt::format("{}: must be in [0, step = {}]", c.interval_steps, c.step));

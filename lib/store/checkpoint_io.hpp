@@ -38,6 +38,13 @@ struct Checkpoint {
     /// Under MPI, what this rank writes: its nodes' rows of u, v, f and its bonds' entries of
     /// `alive` ([begin, end) runs; the vectors hold every node and bond). Empty = all.
     std::vector<std::array<std::uint64_t, 2>> node_runs, bond_runs;
+    /// The surface law's depth history (solver::ContactList::depth_history): (node, body)
+    /// pairs, 2 per entry, and depths (m) of every rank's entries, at depth_time (s; < 0: none,
+    /// and no datasets). Written: this rank's rows `depth_runs` of the vectors (all entries).
+    std::vector<std::int64_t> depth_pairs;
+    std::vector<double> depths;
+    double depth_time = -1;
+    std::vector<std::array<std::uint64_t, 2>> depth_runs;
 };
 
 /// Attribute names of Checkpoint::dissipation.

@@ -76,14 +76,15 @@ def test_blow_up_exits_3_and_keeps_the_last_good_frame(tmp_path):
 
 
 def test_restart_matches_uninterrupted_run_bit_for_bit(tmp_path):
-    sc = scene(checkpoint_interval=1e-4)
+    sc = scene(checkpoint_interval=2e-5)
     a = pack(tmp_path, "a", sc)
     b = tmp_path / "b.h5"
     shutil.copy(a, b)
     assert run("pd-solve", a, "-q").returncode == 0
-    # Interrupted after 115 steps (t = 2.2e-4 s at the automatic dt of issue 11, as 250 steps
-    # were before: mid-contact, past two checkpoints), then continued.
-    assert run("pd-solve", b, "-q", "--steps", 115).returncode == 0
+    # Interrupted after 470 steps (the surface law's automatic dt, 7.3e-7 s: the discs touch
+    # from step 420 to 500, a checkpoint every 27 steps, the latest at 459: mid-contact), then
+    # continued.
+    assert run("pd-solve", b, "-q", "--steps", 470).returncode == 0
     r = run("pd-solve", b, "-q", "--restart")
     assert r.returncode == 0, r.stderr
     with h5py.File(a, "r") as ha, h5py.File(b, "r") as hb:
@@ -95,6 +96,26 @@ def test_restart_matches_uninterrupted_run_bit_for_bit(tmp_path):
             assert x.shape == y.shape, p
             assert np.array_equal(x, y), p
         assert hb["observables/contact_count/value"][:].max() > 0  # the restart was mid-contact?
+
+
+def test_checkpoint_keeps_the_surface_depth_history_and_checks_it(tmp_path):
+    """The surface law's depth rule reads the last evaluation's depths: a checkpoint holds them
+    (/checkpoints/*/surface_depths, with their (node, body) pairs and time), so a restart decides
+    as the run would have (tests/unit SurfaceContact.ARestartKeepsTheDepthHistory). A history
+    that names no node or has a negative depth is refused with exit 2, the file unchanged."""
+    f = pack(tmp_path, "d", scene(checkpoint_interval=2e-5))
+    assert run("pd-solve", f, "-q", "--steps", 470).returncode == 0  # mid-contact, as above
+    with h5py.File(f, "r+") as h:
+        ck = h["checkpoints"][h["checkpoints"].attrs["latest"]]
+        assert 0 <= ck.attrs["surface_depth_time"] <= ck.attrs["time"]
+        pairs, depths = ck["surface_depth_pairs"][()], ck["surface_depths"][()]
+        assert pairs.shape == (len(depths), 2) and len(depths) > 0  # the discs touch
+        assert (depths > 0).all() and (pairs[:, 1] <= 1).all()
+        ck["surface_depths"][0] = -1.0
+    before = open(f, "rb").read()
+    r = run("pd-solve", f, "-q", "--restart")
+    assert r.returncode == 2 and "surface_depths" in r.stderr, r.stderr
+    assert open(f, "rb").read() == before
 
 
 def test_restart_without_checkpoint_is_an_input_error(tmp_path):

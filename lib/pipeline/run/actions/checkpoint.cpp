@@ -9,6 +9,36 @@
 
 namespace pd::pipeline::run {
 
+namespace {
+
+/// The surface law's depth history: every rank's entries in rank order, this rank's rows its own
+/// (collective).
+void depth_history(Run& r, store::Checkpoint& c) {
+    std::vector<std::int64_t> pairs;
+    std::vector<double> depths;
+    r.s.surface_depths(pairs, depths, c.depth_time);
+    c.depth_time = r.s.domain().max(c.depth_time); // every rank evaluated at the same step
+    const auto mine = static_cast<std::int64_t>(depths.size());
+    std::int64_t before = 0, total = mine;
+    if (r.par) {
+        MPI_Exscan(&mine, &before, 1, MPI_INT64_T, MPI_SUM, r.comm);
+        if (r.s.domain().rank() == 0)
+            before = 0; // MPI_Exscan leaves rank 0's undefined
+        total = r.s.domain().sum(mine);
+    }
+    const auto off = static_cast<std::size_t>(before);
+    c.depth_pairs.assign(2 * static_cast<std::size_t>(total), 0);
+    c.depths.assign(static_cast<std::size_t>(total), 0.0);
+    std::copy(pairs.begin(), pairs.end(),
+              c.depth_pairs.begin() + static_cast<std::ptrdiff_t>(2 * off));
+    std::copy(depths.begin(), depths.end(), c.depths.begin() + static_cast<std::ptrdiff_t>(off));
+    if (r.par && mine > 0)
+        c.depth_runs = {
+            {static_cast<std::uint64_t>(before), static_cast<std::uint64_t>(before + mine)}};
+}
+
+} // namespace
+
 void checkpoint_now(Run& r) {
     const auto& s = r.s;
     store::Checkpoint c;
@@ -31,6 +61,7 @@ void checkpoint_now(Run& r) {
     c.interval_sum = s.interval_sum();
     s.domain().sum(c.interval_sum);
     c.interval_steps = s.interval_steps();
+    depth_history(r, c);
     if (r.par) {
         c.node_runs = s.domain().runs();
         for (const auto& run : c.node_runs)
