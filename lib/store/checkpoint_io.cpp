@@ -68,6 +68,30 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.flush();
 }
 
+namespace {
+
+/// The surface law's depth history of checkpoint group g, if it has one (checked).
+void read_depth_history(const h5::File& f, const std::string& g, std::size_t num_nodes,
+                        Checkpoint& c) {
+    if (!f.has_attr(g, "surface_depth_time"))
+        return;
+    c.depth_time = f.attr<double>(g, "surface_depth_time");
+    c.depth_pairs = f.read<std::int64_t>(g + "/surface_depth_pairs");
+    c.depths = f.read<double>(g + "/surface_depths");
+    if (!(c.depth_time >= 0 && c.depth_time <= c.time) ||
+        c.depth_pairs.size() != 2 * c.depths.size())
+        throw SchemaError(f.name(), g + "/surface_depths",
+                          "the depth history does not match its pairs or its time");
+    for (std::size_t k = 0; k < c.depths.size(); ++k)
+        if (!std::isfinite(c.depths[k]) || c.depths[k] < 0 || c.depth_pairs[2 * k] < 0 ||
+            static_cast<std::size_t>(c.depth_pairs[2 * k]) >= num_nodes ||
+            c.depth_pairs[2 * k + 1] < 0)
+            throw SchemaError(f.name(), g + "/surface_depths",
+                              fmt::format("entry {}: not a node, body and depth >= 0", k));
+}
+
+} // namespace
+
 std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t num_nodes,
                                                  std::size_t num_bonds) {
     const std::string root = path::checkpoints;
@@ -90,21 +114,7 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
         c.interval_steps = f.attr<std::int64_t>(g, "interval_steps");
     if (f.has_attr(g, "interval_sum"))
         c.interval_sum = f.attr_vector<double>(g, "interval_sum");
-    if (f.has_attr(g, "surface_depth_time")) {
-        c.depth_time = f.attr<double>(g, "surface_depth_time");
-        c.depth_pairs = f.read<std::int64_t>(g + "/surface_depth_pairs");
-        c.depths = f.read<double>(g + "/surface_depths");
-        if (!(c.depth_time >= 0 && c.depth_time <= c.time) ||
-            c.depth_pairs.size() != 2 * c.depths.size())
-            throw SchemaError(f.name(), g + "/surface_depths",
-                              "the depth history does not match its pairs or its time");
-        for (std::size_t k = 0; k < c.depths.size(); ++k)
-            if (!std::isfinite(c.depths[k]) || c.depths[k] < 0 || c.depth_pairs[2 * k] < 0 ||
-                static_cast<std::size_t>(c.depth_pairs[2 * k]) >= num_nodes ||
-                c.depth_pairs[2 * k + 1] < 0)
-                throw SchemaError(f.name(), g + "/surface_depths",
-                                  fmt::format("entry {}: not a node, body and depth >= 0", k));
-    }
+    read_depth_history(f, g, num_nodes, c);
     if (c.interval_steps < 0 || c.interval_steps > c.step)
         throw SchemaError(f.name(), g + "@interval_steps",
                           fmt::format("{}: must be in [0, step = {}]", c.interval_steps, c.step));
