@@ -267,6 +267,8 @@ void restore(Context& ctx, Input& in, solver::Solver& s) {
     s.restore(ck.step, ck.time, ck.u, ck.v, ck.f, ck.alive, ck.broken_total);
     if (ck.depth_time >= 0) // the surface law's depth history: the run decides as it would have
         s.set_surface_depths(ck.depth_pairs, ck.depths, ck.depth_time);
+    if (!ck.build_x.empty()) // and its last contact-list rebuild: the rebuilds fall as they did
+        s.restore_surface_build(ck.build_x, ck.build_whole);
     // The work is a sum over ranks: rank 0 carries what the checkpoint recorded.
     s.set_external_work(ctx.rank == 0 ? ck.external_work : 0.0,
                         ctx.rank == 0 ? ck.external_power : 0.0);

@@ -241,9 +241,36 @@ void ContactList::set_owned(const Domain& dom) {
         owned_[static_cast<std::size_t>(i)] = 1;
 }
 
+bool ContactList::last_build(std::vector<double>& x, std::vector<std::uint8_t>& whole) const {
+    x.clear();
+    whole.clear();
+    if (!any_surface_ || !built_)
+        return false;
+    x = x_build_;
+    whole = whole_;
+    return true;
+}
+
 bool ContactList::update(State& s, const Domain& dom, const BondData* b) {
     if (!active_)
         return false;
+    if (!restore_x_.empty()) {
+        // A restart: the run's last rebuild, at its positions and torn facets (every rank holds
+        // the whole arrays), then the usual test of how far the nodes moved since.
+        PD_CHECK(restore_x_.size() == s.x.size() && restore_whole_.size() == s.n,
+                 "restored contact build sizes");
+        if (dom.distributed())
+            dom.allgather(s.x, 3);
+        std::swap(s.x, restore_x_);
+        rebuild(s);
+        std::swap(s.x, restore_x_);
+        whole_ = std::move(restore_whole_);
+        restore_x_.clear();
+        restore_whole_.clear();
+        moved_ = dom.max(max_moved(s, x_build_));
+        if (!(moved_ > 0.5 * skin_))
+            return true;
+    }
     // Collective: every rank rebuilds when any rank needs it. The surface law also keeps how far
     // the farthest node of any rank moved since the rebuild (its row skip, surface_row).
     if (any_surface_) {

@@ -97,6 +97,17 @@ class ContactList {
     /// Continues from a checkpoint's history (every rank's entries: a superset of its rows').
     void set_depth_history(const std::vector<std::int64_t>& pairs,
                            const std::vector<double>& depths, double time);
+    /// The surface law's last rebuild for a checkpoint: every node's position then and whether
+    /// it kept half its bonds then (which facets are torn); false (outputs empty) when there is
+    /// none. A restart rebuilds at those positions (restore_build), so the rebuilds, and with
+    /// them the torn facets, fall on the same steps as in the uninterrupted run.
+    bool last_build(std::vector<double>& x, std::vector<std::uint8_t>& whole) const;
+    /// The next update() rebuilds at `x` with `whole` (every node's), then continues as the
+    /// run would have (collective).
+    void restore_build(std::vector<double> x, std::vector<std::uint8_t> whole) {
+        restore_x_ = std::move(x);
+        restore_whole_ = std::move(whole);
+    }
     /// Appends the candidates owned by other ranks (ghosts the contact forces read).
     void ghosts(std::vector<index_t>& out) const;
     /// Adds normal contact force densities to s.f; returns the number of node pairs in contact
@@ -173,7 +184,9 @@ class ContactList {
     std::vector<index_t> neighbor_;
     std::vector<std::int32_t> law_;
     std::vector<double> x_build_;
-    std::vector<std::uint8_t> owned_; ///< 1 = this rank builds the node's row
+    std::vector<double> restore_x_;           ///< restore_build's positions (empty: none)
+    std::vector<std::uint8_t> restore_whole_; ///< restore_build's whole_
+    std::vector<std::uint8_t> owned_;         ///< 1 = this rank builds the node's row
     bool built_ = false;
     bool any_friction_ = false;
     std::vector<std::uint8_t> deep_; ///< 1 = below its grain's surface layer (empty: no check)

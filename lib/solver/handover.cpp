@@ -55,6 +55,14 @@ void Solver::set_surface_depths(const std::vector<std::int64_t>& pairs,
     f_.contact->set_depth_history(pairs, depths, time);
 }
 
+bool Solver::surface_build(std::vector<double>& x, std::vector<std::uint8_t>& whole) const {
+    return f_.contact->last_build(x, whole);
+}
+
+void Solver::restore_surface_build(std::vector<double> x, std::vector<std::uint8_t> whole) {
+    f_.contact->restore_build(std::move(x), std::move(whole));
+}
+
 void Solver::redistribute(Domain* dom) {
     // Everything where its old owner has it, on every rank.
     f_.dom->allgather(f_.s.x, 3);

@@ -108,6 +108,10 @@ class Solver {
                         double& time) const;
     void set_surface_depths(const std::vector<std::int64_t>& pairs,
                             const std::vector<double>& depths, double time);
+    /// The surface law's last contact-list rebuild (ContactList::last_build / restore_build):
+    /// a checkpoint's, and a restart's continuation from it.
+    bool surface_build(std::vector<double>& x, std::vector<std::uint8_t>& whole) const;
+    void restore_surface_build(std::vector<double> x, std::vector<std::uint8_t> whole);
     /// Hands the nodes over to another decomposition of the same ranks (re-partitioning at a
     /// checkpoint): every rank first receives the whole state, then keeps computing its new
     /// rows. Collective; the run continues exactly as it would have. `dom` must outlive the

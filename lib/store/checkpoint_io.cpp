@@ -48,6 +48,12 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.set_attr(g, "interval_steps", c.interval_steps);
     if (!c.interval_sum.empty())
         f.set_attr(g, "interval_sum", c.interval_sum);
+    if (!c.build_x.empty()) {
+        f.write_runs<double>(g + "/surface_build_position", c.build_x, {n, 3}, nodes);
+        f.set_attr(g + "/surface_build_position", "unit", "m");
+        f.write_runs<std::uint8_t>(g + "/surface_build_whole", c.build_whole, {n}, nodes);
+        f.set_attr(g + "/surface_build_whole", "unit", "1");
+    }
     if (c.depth_time >= 0) {
         f.set_attr(g, "surface_depth_time", c.depth_time);
         const std::uint64_t k = c.depths.size();
@@ -70,9 +76,20 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
 
 namespace {
 
-/// The surface law's depth history of checkpoint group g, if it has one (checked).
-void read_depth_history(const h5::File& f, const std::string& g, std::size_t num_nodes,
+/// The surface law's last rebuild and depth history of checkpoint group g, if it has them
+/// (checked).
+void read_surface_state(const h5::File& f, const std::string& g, std::size_t num_nodes,
                         Checkpoint& c) {
+    if (f.exists(g + "/surface_build_position")) {
+        c.build_x = f.read<double>(g + "/surface_build_position");
+        c.build_whole = f.read<std::uint8_t>(g + "/surface_build_whole");
+        if (c.build_x.size() != 3 * num_nodes || c.build_whole.size() != num_nodes ||
+            !std::all_of(c.build_x.begin(), c.build_x.end(),
+                         [](double v) { return std::isfinite(v); }))
+            throw SchemaError(
+                f.name(), g + "/surface_build_position",
+                fmt::format("must be finite, {} x 3, with surface_build_whole", num_nodes));
+    }
     if (!f.has_attr(g, "surface_depth_time"))
         return;
     c.depth_time = f.attr<double>(g, "surface_depth_time");
@@ -114,7 +131,7 @@ std::optional<Checkpoint> read_latest_checkpoint(const h5::File& f, std::size_t 
         c.interval_steps = f.attr<std::int64_t>(g, "interval_steps");
     if (f.has_attr(g, "interval_sum"))
         c.interval_sum = f.attr_vector<double>(g, "interval_sum");
-    read_depth_history(f, g, num_nodes, c);
+    read_surface_state(f, g, num_nodes, c);
     if (c.interval_steps < 0 || c.interval_steps > c.step)
         throw SchemaError(f.name(), g + "@interval_steps",
                           fmt::format("{}: must be in [0, step = {}]", c.interval_steps, c.step));

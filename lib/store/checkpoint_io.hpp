@@ -45,6 +45,10 @@ struct Checkpoint {
     std::vector<double> depths;
     double depth_time = -1;
     std::vector<std::array<std::uint64_t, 2>> depth_runs;
+    /// The surface law's last contact-list rebuild: every node's position then (3 per node, m)
+    /// and whether it kept half its bonds then (1 per node); empty: none. Written by node_runs.
+    std::vector<double> build_x;
+    std::vector<std::uint8_t> build_whole;
 };
 
 /// Attribute names of Checkpoint::dissipation.

@@ -62,6 +62,7 @@ void checkpoint_now(Run& r) {
     s.domain().sum(c.interval_sum);
     c.interval_steps = s.interval_steps();
     depth_history(r, c);
+    s.surface_build(c.build_x, c.build_whole);
     if (r.par) {
         c.node_runs = s.domain().runs();
         for (const auto& run : c.node_runs)
