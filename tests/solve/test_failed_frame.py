@@ -31,14 +31,19 @@ def scene():
     }
 
 
-def test_interpenetration_writes_the_failing_state_as_a_flagged_last_frame(tmp_path):
-    p = tmp_path / "soft.json"
-    p.write_text(json.dumps(scene()))
-    f = tmp_path / "soft.h5"
+def stopped(tmp_path, name, sc):
+    """Packs and solves `sc`; the run must stop with exit 3. Returns the file and the message."""
+    p = tmp_path / (name + ".json")
+    p.write_text(json.dumps(sc))
+    f = tmp_path / (name + ".h5")
     subprocess.run([f"{BIN}/pd-pack", str(p), "-o", str(f), "-q"], check=True)
     r = subprocess.run([f"{BIN}/pd-solve", str(f), "-q"], capture_output=True, text=True)
     assert r.returncode == 3, r.stdout + r.stderr
-    msg = r.stderr
+    return f, r.stderr
+
+
+def test_interpenetration_writes_the_failing_state_as_a_flagged_last_frame(tmp_path):
+    f, msg = stopped(tmp_path, "soft", scene())
     assert "grains interpenetrate at step" in msg, msg
     step = int(re.search(r"interpenetrate at step (\d+)", msg).group(1))
     depth = float(re.search(r"depth reached ([0-9.eE+-]+) m", msg).group(1))
@@ -75,13 +80,7 @@ def test_surface_law_breach_says_so_and_names_its_bound(tmp_path):
     del s["contact"]
     s["materials"]["m1"]["youngs_modulus"] = 1e5
     s["particles"][0]["velocity"], s["particles"][1]["velocity"] = [10, 0], [-10, 0]
-    p = tmp_path / "fast.json"
-    p.write_text(json.dumps(s))
-    f = tmp_path / "fast.h5"
-    subprocess.run([f"{BIN}/pd-pack", str(p), "-o", str(f), "-q"], check=True)
-    r = subprocess.run([f"{BIN}/pd-solve", str(f), "-q"], capture_output=True, text=True)
-    assert r.returncode == 3, r.stdout + r.stderr
-    msg = r.stderr
+    _, msg = stopped(tmp_path, "fast", s)
     assert "node pair(s) more than h/2 inside another grain" in msg, msg
     h = float(re.search(r"surface law, h = ([0-9.eE+-]+) m", msg).group(1))
     bound = float(re.search(r"bound h/2 = ([0-9.eE+-]+) m", msg).group(1))

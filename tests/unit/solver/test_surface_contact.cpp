@@ -355,6 +355,15 @@ model::Model pressed_blocks(double depth) {
         m.nodes.x0[3 * static_cast<std::size_t>(i) + 1] -= 1e-4 + depth;
     return m;
 }
+
+/// Moves block b (body 1) of pressed_blocks `dy` along y at once, at rest.
+void shift_b(const model::Model& m, solver::State& st, double dy) {
+    for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        st.x[3 * k + 1] += dy;
+        st.u[3 * k + 1] += dy;
+    }
+}
 } // namespace
 
 TEST(SurfaceContact, ADepthThatJumpsIsLeftAlone) {
@@ -369,12 +378,7 @@ TEST(SurfaceContact, ADepthThatJumpsIsLeftAlone) {
     solver::Solver s(m);
     s.initialize();
     const double e0 = s.observe().contact_energy;
-    auto& st = s.state();
-    for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i) {
-        const auto k = static_cast<std::size_t>(i);
-        st.x[3 * k + 1] -= 0.4 * h;
-        st.u[3 * k + 1] -= 0.4 * h;
-    }
+    shift_b(m, s.state(), -0.4 * h);
     s.advance();
     const double jumped = s.observe().contact_energy;
     auto deep = pressed_blocks(0.42 * h);
@@ -414,12 +418,7 @@ TEST(SurfaceContact, ARestartKeepsTheDepthHistory) {
         b.restore(st.step, st.time, st.u, st.v, st.f, alive, a.broken_total());
         if (history)
             b.set_surface_depths(pairs, depths, time);
-        auto& sb = b.state();
-        for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i) {
-            const auto k = static_cast<std::size_t>(i);
-            sb.x[3 * k + 1] -= 0.4 * h;
-            sb.u[3 * k + 1] -= 0.4 * h;
-        }
+        shift_b(m, b.state(), -0.4 * h);
         b.advance();
         return b.observe().contact_energy;
     };
