@@ -307,18 +307,25 @@ void ContactList::ghosts(std::vector<index_t>& out) const {
             out.push_back(j);
     if (!any_surface_)
         return;
-    // The surface law reads every vertex of the facets at the candidates.
+    // The surface law reads every vertex of the facets at the candidates, and in 2D of the
+    // facets across their vertices (surface_contact.cpp, vertex_blend).
     const auto nv = static_cast<std::size_t>(facets_.nv);
+    const auto add = [&](std::size_t f) {
+        for (std::size_t a = 0; a < nv; ++a) {
+            const auto v = facets_.v[nv * f + a];
+            if (!owned_[static_cast<std::size_t>(v)])
+                out.push_back(v);
+        }
+    };
     for (auto j : neighbor_)
         for (auto q = facets_.offsets[static_cast<std::size_t>(j)];
-             q < facets_.offsets[static_cast<std::size_t>(j) + 1]; ++q)
-            for (std::size_t a = 0; a < nv; ++a) {
-                const auto v = facets_.v[nv * static_cast<std::size_t>(
-                                                  facets_.of_node[static_cast<std::size_t>(q)]) +
-                                         a];
-                if (!owned_[static_cast<std::size_t>(v)])
-                    out.push_back(v);
-            }
+             q < facets_.offsets[static_cast<std::size_t>(j) + 1]; ++q) {
+            const auto f = static_cast<std::size_t>(facets_.of_node[static_cast<std::size_t>(q)]);
+            add(f);
+            for (std::size_t e = 0; e < 2 && !facets_.across.empty(); ++e)
+                if (facets_.across[2 * f + e] >= 0)
+                    add(static_cast<std::size_t>(facets_.across[2 * f + e]));
+        }
 }
 
 namespace {

@@ -56,8 +56,24 @@ struct Facets {
     std::vector<offset_t> offsets{0};  ///< CSR node -> incident facets (every node of the model)
     std::vector<std::int32_t> of_node; ///< facet ids
     double max_edge = 0;               ///< longest facet edge (reference), m
+    /// 2D only (empty in 3D): per facet end e (index 2 f + e), the facet of the same body across
+    /// that vertex (-1: none) and c (m): the depth behind a convex vertex is smoothed within
+    /// |g_f - g_g| < c sin(theta / 2) (theta the angle between the facets' current normals;
+    /// surface_contact.cpp, vertex_blend), a band of half-width c / 2 about the vertex's
+    /// bisector; 0: not smoothed (no vertex of two facets, or a corner of the shape).
+    std::vector<std::int32_t> across;
+    std::vector<double> blend;
     std::size_t num() const { return body.size(); }
 };
+/// kappa: c = kappa x the shorter facet at the vertex (reference), so the band reaches kappa / 2
+/// of that facet from the vertex and the bands of a facet's two ends never meet.
+inline constexpr double vertex_blend_share = 0.5;
+/// Largest angle (rad) between the normals of a vertex's facets that is smoothed: a vertex of a
+/// polygonised curve (a 32-gon: 11 deg), not a corner of the shape (a hexagon's 60 deg, a
+/// rectangle's or a turned grid disc's staircase's 90 deg, where the bisector is no better a
+/// normal than either facet's: a grid disc turned by 17 deg on a meshed floor slid at 17 % of
+/// its impact speed with its 90 deg corners smoothed, 7 % without).
+inline constexpr double vertex_blend_max_angle = 0.5235987755982988; // 30 deg
 /// The facets of the bodies `want` (1 per body) from their reference meshes; a wanted body whose
 /// mesh has no cells (or not its node count) is an InputError naming it.
 Facets boundary_facets(const model::Model& m, const std::vector<std::uint8_t>& want);
@@ -150,6 +166,11 @@ class ContactList {
     void facet_spheres(const State& s, bool torn_flag) const;
     struct Event;
     struct Best;
+    struct Blend;
+    /// 2D: node xi behind facet f (closest point weights w) near a convex vertex of f: the
+    /// smoothed depth and its two facets' shares (surface_contact.cpp); false: no smoothing.
+    bool vertex_blend(std::int32_t f, const double* w, const double* xi, const State& s,
+                      Blend& out) const;
     /// Node i at depth d behind `facet` of `body`: within the motion since the last evaluation
     /// (four times the fastest of i and the facet's vertices times the time since, plus twice
     /// the law's onset) of its depth then (0 when it was not inside; surface_history.cpp).
@@ -212,13 +233,16 @@ class ContactList {
     std::vector<double> slack_;
     double moved_ = 0; ///< m, farthest any node moved since the rebuild (all ranks)
     struct Event {
-        index_t i;          ///< the node inside
-        std::int32_t facet; ///< the facet it is pushed out of
-        double w[3];        ///< barycentric weights of the closest point
-        double force[3];    ///< on i, N
-        double energy;      ///< J
-        double depth;       ///< m, |p - y_i|
-        bool deep;          ///< more than h / 2 inside (the guard's failure)
+        index_t i;           ///< the node inside
+        std::int32_t facet;  ///< the facet it is pushed out of
+        double w[3];         ///< barycentric weights of the closest point
+        double force[3];     ///< on i through `facet`, N
+        std::int32_t facet2; ///< the facet across a convex vertex sharing the force, or -1
+        double w2[2];        ///< weights on facet2's vertices (its foot point)
+        double force2[3];    ///< on i through facet2, N (the node gets force + force2)
+        double energy;       ///< J
+        double depth;        ///< m, |p - y_i|
+        bool deep;           ///< more than h / 2 inside (the guard's failure)
     };
     struct Touched {
         index_t i;

@@ -96,6 +96,51 @@ std::vector<std::int32_t> mesh_facets(const model::RefMesh& r, int dim) {
     return out;
 }
 
+/// 2D: F.across and F.blend (contact.hpp) from the reference positions x0. At a vertex shared
+/// by two facets f and g of outward unit normals n_f, n_g (angle theta between them), the line
+/// depths g_f, g_g of a node differ by (n_g - n_f).(v - y), |n_g - n_f| = 2 sin(theta / 2): the
+/// band |g_f - g_g| < c sin(theta / 2), c = kappa min(L_f, L_g), is c / 2 wide on either side of
+/// the bisector. Only convex vertices of a polygonised curve (theta up to
+/// vertex_blend_max_angle in the reference) are smoothed.
+void vertex_blends(Facets& F, const std::vector<double>& x0) {
+    const std::size_t nf = F.num();
+    F.across.assign(2 * nf, -1);
+    F.blend.assign(2 * nf, 0.0);
+    const auto X = [&](index_t k) { return &x0[3 * static_cast<std::size_t>(k)]; };
+    // Unit outward normal and length of facet k (a, b): (b - a) rotated by -90 deg.
+    const auto normal = [&](std::size_t k, double* n) {
+        const double *A = X(F.v[2 * k]), *B = X(F.v[2 * k + 1]);
+        const double L = std::hypot(B[0] - A[0], B[1] - A[1]);
+        n[0] = (B[1] - A[1]) / L;
+        n[1] = -(B[0] - A[0]) / L;
+        return L;
+    };
+    for (std::size_t f = 0; f < nf; ++f)
+        for (std::size_t e = 0; e < 2; ++e) {
+            const auto v = static_cast<std::size_t>(F.v[2 * f + e]);
+            if (F.offsets[v + 1] - F.offsets[v] != 2)
+                continue; // not a vertex of exactly two facets
+            auto g = static_cast<std::size_t>(F.of_node[static_cast<std::size_t>(F.offsets[v])]);
+            if (g == f)
+                g = static_cast<std::size_t>(F.of_node[static_cast<std::size_t>(F.offsets[v]) + 1]);
+            if (F.body[g] != F.body[f])
+                continue;
+            F.across[2 * f + e] = static_cast<std::int32_t>(g);
+            double nf_[2], ng[2];
+            const double Lf = normal(f, nf_), Lg = normal(g, ng);
+            const auto q = F.v[2 * g] == F.v[2 * f + e] ? F.v[2 * g + 1] : F.v[2 * g];
+            const double* V = X(F.v[2 * f + e]);
+            const double* Q = X(q);
+            // Convex: g's other vertex lies behind f's line (by more than rounding).
+            if (nf_[0] * (Q[0] - V[0]) + nf_[1] * (Q[1] - V[1]) >= -1e-9 * Lg)
+                continue;
+            const double half = 0.5 * std::hypot(ng[0] - nf_[0], ng[1] - nf_[1]);
+            if (half > std::sin(0.5 * vertex_blend_max_angle))
+                continue; // a corner of the shape, not a facet of a curve
+            F.blend[2 * f + e] = vertex_blend_share * std::min(Lf, Lg);
+        }
+}
+
 } // namespace
 
 Facets boundary_facets(const model::Model& m, const std::vector<std::uint8_t>& want) {
@@ -152,6 +197,8 @@ Facets boundary_facets(const model::Model& m, const std::vector<std::uint8_t>& w
             F.max_edge = std::max(F.max_edge, std::sqrt(l2));
             F.edge2[f] = std::max(F.edge2[f], l2);
         }
+    if (F.nv == 2)
+        vertex_blends(F, m.nodes.x0);
     return F;
 }
 

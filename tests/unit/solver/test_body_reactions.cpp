@@ -57,12 +57,15 @@ TEST(BodyReaction, FixedMeshedFloorCarriesTheWeight) {
     const auto floor_c = test::com(m, s.state(), 0, s.state().x);
     const int steps = static_cast<int>(0.05 / s.dt()), from = static_cast<int>(0.03 / s.dt());
     const auto com_v = [&] { return test::com(m, s.state(), 1, s.state().v); };
-    double fx = 0, fy = 0, mz = 0, arm = 0, ke = 0;
+    double fx = 0, fy = 0, mz = 0, arm = 0, ke = 0, side = 0, landing = 0;
     std::array<double, 3> v0{};
     for (int k = 0; k < steps; ++k) {
         if (k == from)
             v0 = com_v();
         s.advance();
+        const auto vk = com_v();
+        landing = std::max(landing, -vk[1]);
+        side = std::max(side, std::abs(vk[0]));
         const auto o = s.observe(); // this step's reactions (an interval of one step)
         s.end_interval();
         ASSERT_EQ(o.body_force.size(), 3u);
@@ -82,6 +85,8 @@ TEST(BodyReaction, FixedMeshedFloorCarriesTheWeight) {
     std::printf("[ meshed floor ] reaction / weight %.5f (momentum %+.1e), moment / (-arm W) %.5f, "
                 "arm %.4g m, largest KE %.2g J\n",
                 -fy / n / weight, dpy / weight, mz / n / (-arm * weight), arm, ke);
+    std::printf("[ meshed floor ] landing %.4g m/s, largest sideways speed %.3g m/s\n", landing,
+                side);
     EXPECT_NEAR(-fy / n / weight, 1.0, 0.01);
     EXPECT_NEAR((-fy / n - dpy) / weight, 1.0, 2e-3);
     EXPECT_NEAR((fx / n + dpx) / weight, 0.0, 2e-3);

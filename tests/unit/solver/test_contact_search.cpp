@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace {
 
@@ -241,11 +242,46 @@ bool inside_boundary(const solver::Facets& F, const solver::State& s, std::int32
     return in;
 }
 
+/// Whether x lies within delta / 4 of body b's boundary and within a quarter of the facet of a
+/// convex vertex whose smoothing band is delta (surface_contact.cpp, vertex_blend: the vertex
+/// is rounded off, at most delta / 4 deep, over its band).
+bool in_fillet(const solver::Facets& F, const solver::State& s, std::int32_t b, const double* x) {
+    for (std::size_t f = 0; f < F.num(); ++f)
+        for (std::size_t e = 0; e < 2; ++e) {
+            const double c = F.blend[2 * f + e];
+            if (F.body[f] != b || !(c > 0))
+                continue;
+            const auto normal = [&](std::size_t k, double* n) {
+                const double* A = &s.x[3 * static_cast<std::size_t>(F.v[2 * k])];
+                const double* B = &s.x[3 * static_cast<std::size_t>(F.v[2 * k + 1])];
+                const double l = std::hypot(B[0] - A[0], B[1] - A[1]);
+                n[0] = (B[1] - A[1]) / l;
+                n[1] = -(B[0] - A[0]) / l;
+            };
+            double nf[2], ng[2];
+            normal(f, nf);
+            normal(static_cast<std::size_t>(F.across[2 * f + e]), ng);
+            const double delta = c * 0.5 * std::hypot(nf[0] - ng[0], nf[1] - ng[1]);
+            const double* v = &s.x[3 * static_cast<std::size_t>(F.v[2 * f + e])];
+            const double* o = &s.x[3 * static_cast<std::size_t>(F.v[2 * f + 1 - e])];
+            const double L = std::hypot(o[0] - v[0], o[1] - v[1]);
+            const double n[2] = {(o[1] - v[1]) / L, -(o[0] - v[0]) / L}; // +-normal
+            const double along =
+                ((x[0] - v[0]) * (o[0] - v[0]) + (x[1] - v[1]) * (o[1] - v[1])) / L;
+            const double depth = std::abs((x[0] - v[0]) * n[0] + (x[1] - v[1]) * n[1]);
+            if (along < 0.26 * L && depth <= 0.25 * delta * (1 + 1e-9))
+                return true;
+        }
+    return false;
+}
+
 TEST(SurfaceContact, TouchingNodesAreTheNodesInsideTheOtherBoundary) {
     // The surface law: disc 1 slides along disc 0 overlapping it by up to 0.4 h
-    // and turning; at every step the nodes in contact are exactly the nodes of either disc that
-    // lie inside the other's boundary polygon (ray casting over its facets), and the contact
-    // forces sum to zero (the facets' nodes take the reactions).
+    // and turning; at every step the nodes in contact are the nodes of either disc that lie
+    // inside the other's boundary polygon (ray casting over its facets) but for those in the
+    // rounding of a convex vertex (vertex_blend: at most delta / 4 deep, a quarter of the facet
+    // along it), which may be out of contact, and the contact forces sum to zero (the facets'
+    // nodes take the reactions).
     const auto m = pipeline::build_scene(R"({"dimension": 2,
       "materials": {"m1": {"density": 1200, "youngs_modulus": 3.24e7}},
       "discretization": {"mesh_size": 1e-4, "horizon_factor": 3},
@@ -263,7 +299,7 @@ TEST(SurfaceContact, TouchingNodesAreTheNodesInsideTheOtherBoundary) {
     solver::ContactList cl(m, h);
     // Centre distance 1.8 mm - overlap; the overlap grows to 0.4 h and back while disc 1 turns
     // about disc 0 by 0.6 rad (and about itself).
-    std::int64_t most = 0;
+    std::int64_t most = 0, filleted = 0;
     for (int k = 0; k <= 60; ++k) {
         const double overlap = 0.4 * h * std::sin(M_PI * k / 60.0);
         const double angle = 0.01 * k;
@@ -285,9 +321,16 @@ TEST(SurfaceContact, TouchingNodesAreTheNodesInsideTheOtherBoundary) {
         double e = 0;
         const auto touching = cl.add_forces(s, e, nullptr);
         std::int64_t inside = 0;
+        std::int64_t fillet = 0;
         for (std::size_t i = 0; i < s.n; ++i)
-            inside += inside_boundary(F, s, 1 - s.body[i], s.x[3 * i], s.x[3 * i + 1]);
-        ASSERT_EQ(touching, inside) << "step " << k;
+            if (inside_boundary(F, s, 1 - s.body[i], s.x[3 * i], s.x[3 * i + 1])) {
+                ++inside;
+                fillet += in_fillet(F, s, 1 - s.body[i], &s.x[3 * i]);
+            }
+        // Every node inside, but those the rounding of a convex vertex may leave out.
+        ASSERT_LE(touching, inside) << "step " << k;
+        ASSERT_GE(touching, inside - fillet) << "step " << k;
+        filleted += fillet;
         double sum[2] = {0, 0}, mag = 0;
         for (std::size_t i = 0; i < s.n; ++i)
             for (int d = 0; d < 2; ++d) {
@@ -299,6 +342,8 @@ TEST(SurfaceContact, TouchingNodesAreTheNodesInsideTheOtherBoundary) {
         most = std::max(most, touching);
     }
     EXPECT_GT(most, 5); // the discs did overlap
+    std::printf("[ touching ] at most %lld nodes in contact; %lld node-steps in a fillet\n",
+                static_cast<long long>(most), static_cast<long long>(filleted));
 }
 
 } // namespace
