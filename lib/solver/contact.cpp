@@ -251,7 +251,7 @@ bool ContactList::last_build(std::vector<double>& x, std::vector<std::uint8_t>& 
     return true;
 }
 
-bool ContactList::update(State& s, const Domain& dom, const BondData* b) {
+bool ContactList::update(State& s, const Domain& dom, const BondData* b, std::int64_t broken) {
     if (!active_)
         return false;
     if (!restore_x_.empty()) {
@@ -267,36 +267,21 @@ bool ContactList::update(State& s, const Domain& dom, const BondData* b) {
         whole_ = std::move(restore_whole_);
         restore_x_.clear();
         restore_whole_.clear();
+        if (any_surface_) {
+            update_surface(s, dom, b, broken); // this step's tears, as the run had them
+            return true;
+        }
         moved_ = dom.max(max_moved(s, x_build_));
         if (!(moved_ > 0.5 * skin_))
             return true;
     }
-    // Collective: every rank rebuilds when any rank needs it. The surface law also keeps how far
-    // the farthest node of any rank moved since the rebuild (its row skip, surface_row).
-    if (any_surface_) {
-        moved_ = built_ ? dom.max(max_moved(s, x_build_)) : 0.0;
-        if (built_ && !(moved_ > 0.5 * skin_))
-            return false;
-        moved_ = 0;
-    } else if (!dom.any(!built_ || moved_farther_than(s, x_build_, 0.5 * skin_)))
+    if (any_surface_)
+        return update_surface(s, dom, b, broken); // surface_tear.cpp
+    // Collective: every rank rebuilds when any rank needs it.
+    if (!dom.any(!built_ || moved_farther_than(s, x_build_, 0.5 * skin_)))
         return false;
-    if (any_surface_) {
-        // Which nodes keep half their bonds (irreversible between rebuilds: bonds only break).
-        whole_.assign(s.n, 1);
-        if (b && !b->alive.empty())
-            for (std::size_t a = 0; a < s.rows.size(); ++a) {
-                const auto n = b->offsets[a + 1] - b->offsets[a];
-                offset_t alive = 0;
-                for (auto k = b->offsets[a]; k < b->offsets[a + 1]; ++k)
-                    alive += b->alive[static_cast<std::size_t>(k)];
-                whole_[static_cast<std::size_t>(s.rows[a])] = 2 * alive >= n ? 1 : 0;
-            }
-        if (dom.distributed())
-            dom.allgather(whole_, 1);
-    }
-    if (dom.distributed()) {
+    if (dom.distributed())
         dom.allgather(s.x, 3); // every node where its owner has it
-    }
     rebuild(s);
     return true;
 }

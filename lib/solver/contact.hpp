@@ -98,11 +98,13 @@ class ContactList {
     /// Rebuilds the candidate list if any rank needs it (collective; gathers every position
     /// first under MPI); returns true if it did.
     /// `b`: this rank's bond rows (the surface law's facets act only between nodes that keep
-    /// half their bonds, refreshed at each rebuild); may be null (every node counts as whole).
-    bool update(State& s, const Domain& dom, const BondData* b = nullptr);
+    /// half their bonds); may be null (every node counts as whole). `broken`: this rank's count
+    /// of broken bonds; at a rebuild the facets' flags are counted again if it changed.
+    bool update(State& s, const Domain& dom, const BondData* b = nullptr, std::int64_t broken = 0);
     /// The next update() rebuilds (after a change of ownership).
     void invalidate() {
         built_ = false;
+        facet_rows_stale_ = true;
         touched_known_ = false; // rows may have changed ranks: no history (surface_row)
     }
     /// The surface law's depth history (surface_history.cpp) for a checkpoint: the owned nodes'
@@ -113,16 +115,23 @@ class ContactList {
     /// Continues from a checkpoint's history (every rank's entries: a superset of its rows').
     void set_depth_history(const std::vector<std::int64_t>& pairs,
                            const std::vector<double>& depths, double time);
-    /// The surface law's last rebuild for a checkpoint: every node's position then and whether
-    /// it kept half its bonds then (which facets are torn); false (outputs empty) when there is
-    /// none. A restart rebuilds at those positions (restore_build), so the rebuilds, and with
-    /// them the torn facets, fall on the same steps as in the uninterrupted run.
+    /// The surface law's last rebuild for a checkpoint: every node's position then, and the
+    /// torn flags counted then (whole_); false (outputs empty) when there is none. A restart
+    /// rebuilds at those positions (restore_build), so its rebuilds, and with them the torn
+    /// facets, fall on the uninterrupted run's steps.
     bool last_build(std::vector<double>& x, std::vector<std::uint8_t>& whole) const;
     /// The next update() rebuilds at `x` with `whole` (every node's), then continues as the
     /// run would have (collective).
     void restore_build(std::vector<double> x, std::vector<std::uint8_t> whole) {
         restore_x_ = std::move(x);
         restore_whole_ = std::move(whole);
+    }
+    /// The surface law's contact energy (J, owned nodes) released since the last call by facets
+    /// that tore at a rebuild (a vertex lost half its bonds): the solver books it as fracture.
+    double take_released() {
+        const double e = released_;
+        released_ = 0;
+        return e;
     }
     /// Appends the candidates owned by other ranks (ghosts the contact forces read).
     void ghosts(std::vector<index_t>& out) const;
@@ -162,6 +171,12 @@ class ContactList {
     void surface_rows(const State& s);
     std::int64_t add_surface(State& s, double& energy, std::vector<BodyPairForce>* normal) const;
     bool torn(std::int32_t facet, const State& s) const;
+    /// The contact energy of the owned nodes at s with the current list and flags (no force).
+    double surface_energy(const State& s) const;
+    /// update() for the surface law (surface_tear.cpp): the rebuild test, the torn flags.
+    bool update_surface(State& s, const Domain& dom, const BondData* b, std::int64_t broken);
+    /// The flags of the owned facet vertices from their bond rows; true if one fell to 0.
+    bool count_whole(const State& s, const BondData& b);
     /// sphere_ per facet at s (with torn_flag: reach -1 for a torn facet).
     void facet_spheres(const State& s, bool torn_flag) const;
     struct Event;
@@ -221,7 +236,7 @@ class ContactList {
     bool any_surface_ = false, any_node_ = false;
     Facets facets_;
     std::vector<double> h_body_;      ///< per body: mesh size h (the penetration guard's h / 2)
-    std::vector<std::uint8_t> whole_; ///< per node: keeps half its bonds (at the last rebuild)
+    std::vector<std::uint8_t> whole_; ///< per node: 0 a facet vertex that lost half its bonds
     /// Rows the surface law computes: owned rows, and under MPI the rows of ghost candidates of
     /// owned rows (their events put reactions on owned facet nodes).
     std::vector<index_t> srows_;
@@ -251,6 +266,10 @@ class ContactList {
         bool operator<(const Touched& o) const { return i != o.i ? i < o.i : body < o.body; }
     };
     mutable std::vector<Event> events_;
+    double released_ = 0;                 ///< J, take_released()
+    std::vector<std::size_t> facet_rows_; ///< the rows of owned facet vertices (count_whole)
+    bool facet_rows_stale_ = true;
+    std::int64_t broken_seen_ = -1;      ///< `broken` at the last count_whole
     mutable std::vector<double> sphere_; ///< per facet, this evaluation: centroid, reach
     /// (node, body it is inside, depth) of the last evaluation's events, sorted: a pair's depth
     /// grows by at most what its nodes moved since (depth_continuous), and a pair not among

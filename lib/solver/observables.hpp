@@ -28,7 +28,7 @@ struct Observables {
     // Energy dissipated since t = 0 (J, cumulative): with them the balance
     // KE + elastic + contact + fracture + damping + friction + viscous - external_work
     // stays at its t = 0 value (to the integrator's error; pd-solve's guard checks it).
-    double fracture_energy = 0;      ///< elastic energy bonds held when they broke
+    double fracture_energy = 0; ///< energy bonds (and torn facets' contacts) held when they broke
     double damping_dissipation = 0;  ///< removed by hysteretic contact damping
     double friction_dissipation = 0; ///< removed by Coulomb friction
     double viscous_dissipation = 0;  ///< removed by viscous relaxation

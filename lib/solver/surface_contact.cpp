@@ -520,6 +520,19 @@ void ContactList::apply_events(State& s, Sums& sums, std::vector<BodyPairForce>*
     }
 }
 
+double ContactList::surface_energy(const State& s) const {
+    facet_spheres(s, true);
+    std::vector<Event> events;
+    std::vector<Best> best;
+    for (std::size_t a = 0; a < srows_.size(); ++a)
+        surface_row(a, s, events, best);
+    double e = 0;
+    for (const auto& ev : events)
+        if (owned_[static_cast<std::size_t>(ev.i)])
+            e += ev.energy;
+    return e;
+}
+
 std::int64_t ContactList::add_surface(State& s, double& energy,
                                       std::vector<BodyPairForce>* normal) const {
     const auto nrows = static_cast<std::int64_t>(srows_.size());

@@ -48,6 +48,8 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     f.set_attr(g, "interval_steps", c.interval_steps);
     if (!c.interval_sum.empty())
         f.set_attr(g, "interval_sum", c.interval_sum);
+    if (!c.build_x.empty() || c.depth_time >= 0)
+        raise_version(f); // pd-file 1.9.0 objects
     if (!c.build_x.empty()) {
         f.write_runs<double>(g + "/surface_build_position", c.build_x, {n, 3}, nodes);
         f.set_attr(g + "/surface_build_position", "unit", "m");

@@ -15,8 +15,9 @@ class NodeContact final : public ForceTerm {
     void add(Forces& f) override {
         {
             ScopedTimer t(f.timers, f.t_search);
-            if (f.contact->update(f.s, *f.dom, &f.b) && f.dom->distributed())
+            if (f.contact->update(f.s, *f.dom, &f.b, f.broken_total) && f.dom->distributed())
                 set_ghosts(f);
+            f.diss.fracture += f.contact->take_released(); // facets torn at the rebuild
         }
         ScopedTimer t(f.timers, f.t_contact);
         double energy = 0;
