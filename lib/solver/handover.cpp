@@ -5,13 +5,20 @@
 #include "solver/detail.hpp"
 #include "solver/solver.hpp"
 
+#include <algorithm>
+
 namespace pd::solver {
 
 using detail::rows_of;
 
 void set_ghosts(Forces& f) {
+    std::vector<index_t> c;
+    f.contact->ghosts(c);
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+    f.contact_ghosts = c.size();
     std::vector<index_t> g = f.bond_ghosts;
-    f.contact->ghosts(g);
+    g.insert(g.end(), c.begin(), c.end());
     f.dom->set_ghosts(g);
     f.dom->exchange({&f.s.x, &f.s.u, &f.s.v}, 3); // new ghosts' velocities (friction, damping)
 }
