@@ -25,9 +25,13 @@ import statistics
 import subprocess
 import sys
 
+import h5py
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "..", "startup", "block3d.json")
 BOX = 0.063  # the block's edge, m
+# pd-solve's peak at one rank, RESULTS.md "Issue 29 item 3": 60 MB + 385 B/node + 22 B/bond (PMB)
+MEM_BASE, MEM_NODE, MEM_BOND = 60e6, 385, 22
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMP_NUM_THREADS="1", OMP_WAIT_POLICY="passive")
 RANK_LINE = re.compile(r"rank (\d+): (.*)$")
@@ -86,9 +90,14 @@ def partitioned(bindir, base, ranks):
     return f
 
 
-def solve(bindir, base, ranks, steps, out):
+def solve(bindir, base, ranks, steps, out, fields):
     f = base.replace(".h5", f"_p{ranks}.h5")
     shutil.copy(partitioned(bindir, base, ranks), f)
+    if fields != "all":
+        # The frame fields of the run (/solver@fields, pd-file 6.13): without `fragment`, whose
+        # frames gather the whole bond list on every rank (it sets the peak of a node split).
+        with h5py.File(f, "r+") as h:
+            h["solver"].attrs["fields"] = fields
     tdir = f.replace(".h5", "_time")
     os.makedirs(tdir, exist_ok=True)
     wrap = (f'exec /usr/bin/time -f "%e %U %S %M" -o {tdir}/rank.${{OMPI_COMM_WORLD_RANK:-0}} '
@@ -127,8 +136,10 @@ def summary(run):
         "reductions": max(col("reductions_per_step")),
         "gathered_max_B": max(col("gathered_B")),
         "loop_s": loop, "busy_sum_s": sum(col("busy_s")),
-        "halo_share_max": max(r["halo_s"] / r["loop_s"] for r in pr if r["loop_s"] > 0),
-        "halo_share_mean": statistics.mean(r["halo_s"] / r["loop_s"] for r in pr),
+        # the step: compute (busy) + ghost exchange (halo, waiting for the peers included)
+        "halo_share_max": max(r["halo_s"] / (r["halo_s"] + r["busy_s"]) for r in pr),
+        "halo_share_mean": statistics.mean(r["halo_s"] / (r["halo_s"] + r["busy_s"]) for r in pr),
+        "step_s": max(r["halo_s"] + r["busy_s"] for r in pr) / run["steps"],
         "cpu_s": sum(r["user"] + r["sys"] for r in pr),
         "wall_s": max(col("wall")),
     }
@@ -137,7 +148,7 @@ def summary(run):
 def table(rows):
     print("| P | nodes | bonds | peak RSS max / mean (MB) | owned / rank | ghosts max / mean "
           "(bond, contact max) | peers max | sent B/step max / mean | msgs/step max | "
-          "halo share max / mean | loop s | CPU s (all ranks) |")
+          "halo share max / mean | step ms (max rank) | CPU s (all ranks, whole run) |")
     print("|---" * 12 + "|")
     for s in rows:
         print(f"| {s['P']} | {s['nodes']} | {s['bonds']} | {s['rss_max_MB']:.0f} / "
@@ -145,12 +156,12 @@ def table(rows):
               f"{s['ghosts_mean']:.0f} ({s['bond_ghosts_max']:.0f}, "
               f"{s['contact_ghosts_max']:.0f}) | {s['peers_max']:.0f} | {s['sent_max_B']:.3g} / "
               f"{s['sent_mean_B']:.3g} | {s['msgs_max']:.0f} | {s['halo_share_max']:.3f} / "
-              f"{s['halo_share_mean']:.3f} | {s['loop_s']:.2f} | {s['cpu_s']:.1f} |")
+              f"{s['halo_share_mean']:.3f} | {s['step_s'] * 1e3:.1f} | {s['cpu_s']:.1f} |")
 
 
 def measure(a):
     os.makedirs(a.out, exist_ok=True)
-    res = {"strong": [], "weak": [], "steps": a.steps}
+    res = {"strong": [], "weak": [], "steps": a.steps, "fields": a.fields}
     if a.partition_only:
         for p in a.ranks:
             partitioned(a.bin, pack(a.bin, a.out, a.h), p)
@@ -159,13 +170,13 @@ def measure(a):
     if not a.skip_strong:
         base = pack(a.bin, a.out, a.h)
         for p in a.ranks:
-            res["strong"].append(solve(a.bin, base, p, a.steps, a.out))
+            res["strong"].append(solve(a.bin, base, p, a.steps, a.out, a.fields))
     if not a.skip_weak:
         for p in a.ranks:
             edge = round(a.weak_edge * p ** (1 / 3))
             base = pack(a.bin, a.out, BOX / edge)
-            res["weak"].append(solve(a.bin, base, p, a.steps, a.out))
-    with open(os.path.join(a.out, "scaling.json"), "w") as f:
+            res["weak"].append(solve(a.bin, base, p, a.steps, a.out, a.fields))
+    with open(os.path.join(a.out, a.json), "w") as f:
         json.dump(res, f, indent=1)
     for k in ("strong", "weak"):
         if res[k]:
@@ -173,59 +184,71 @@ def measure(a):
             table([summary(r) for r in res[k]])
 
 
-def fit_halo(runs):
-    """ghosts per rank = c (N/P)^(2/3), least squares in log space over P >= 2 (max rank)."""
-    pts = [(math.log(summary(r)["owned_mean"]), math.log(summary(r)["ghosts_max"]))
-           for r in runs if r["ranks"] > 1]
-    if not pts:
-        return None
-    xs, ys = zip(*pts)
-    # the slope fitted, and c at the slope 2/3 of a surface over a volume
-    mx, my = statistics.mean(xs), statistics.mean(ys)
-    slope = (sum((x - mx) * (y - my) for x, y in pts) / sum((x - mx) ** 2 for x in xs)
-             if len(pts) > 1 else float("nan"))
-    c = math.exp(statistics.mean(y - 2 / 3 * x for x, y in pts))
-    return slope, c
+def cube_halo(own, layers):
+    """Ghosts of an interior rank owning a cube of `own` grid nodes: the shell `layers` deep."""
+    n = own ** (1 / 3)
+    return (n + 2 * layers) ** 3 - n ** 3
+
+
+def mem_today(nodes, bonds, p):
+    """Peak per rank today (RESULTS.md item 3 fit): whole node arrays, own bond rows."""
+    return MEM_BASE + MEM_NODE * nodes + MEM_BOND * bonds / p
+
+
+def mem_item1(nodes, bonds, p, ghosts):
+    """The same with item 1 done: owned nodes and ghosts only."""
+    return MEM_BASE + MEM_NODE * (nodes / p + ghosts) + MEM_BOND * bonds / p
+
+
+def check_model(res, layers):
+    """The measured figures against the model's pieces: memory today, ghosts of one face."""
+    print("| series | P | peak RSS max (MB) | model today (MB) | ghosts max | one face x "
+          f"{layers} layers (P = 2) | sent B per peer ghost |")
+    print("|---" * 7 + "|")
+    for k in ("strong", "weak"):
+        for r in res[k]:
+            s = summary(r)
+            face = round(r["nodes"] ** (1 / 3)) ** 2 * layers if r["ranks"] == 2 else float("nan")
+            per = (s["sent_mean_B"] / s["ghosts_mean"]) if s["ghosts_mean"] else float("nan")
+            print(f"| {k} | {r['ranks']} | {s['rss_max_MB']:.0f} | "
+                  f"{mem_today(r['nodes'], r['bonds'], r['ranks']) / 1e6:.0f} | "
+                  f"{s['ghosts_max']:.0f} | {face:.0f} | {per:.1f} |")
 
 
 def model(a):
     with open(a.model) as f:
         res = json.load(f)
     runs = res["strong"] + res["weak"]
-    one = [summary(r) for r in runs if r["ranks"] == 1]
-    rate = max(r["bonds"] * res["steps"] / s["busy_sum_s"] for r, s in
-               ((r, summary(r)) for r in runs if r["ranks"] == 1))
-    slope, c = fit_halo(runs)
     multi = [summary(r) for r in runs if r["ranks"] > 1]
+    wall_rate = max(r["bonds"] * res["steps"] / summary(r)["busy_sum_s"]
+                    for r in runs if r["ranks"] == 1)
     b_per_ghost = statistics.mean(s["sent_mean_B"] / s["ghosts_mean"] for s in multi)
-    bonds_per_node = statistics.mean(s["bonds"] / s["nodes"] for s in one)
-    bw, lat = a.bandwidth * 1e9 / 8, a.latency * 1e-6
-    peers = max(s["peers_max"] for s in multi)
     red = max(s["reductions"] for s in multi)
-    print(f"measured: {rate:.3g} bond updates per CPU s (1 rank, loop busy time); halo fit "
-          f"ghosts = {c:.3g} (N/P)^(2/3) (free slope {slope:.3f}); {b_per_ghost:.1f} B sent per "
-          f"ghost per step; {bonds_per_node:.1f} bond entries per node; peers up to {peers:.0f}; "
-          f"{red:.2f} all-reduces per step")
-    print(f"assumed: {a.bandwidth:g} Gb/s per rank, {a.latency:g} us latency, messages not "
-          f"overlapped with compute, {a.peers:g} peers per rank at scale, all-reduce "
-          f"2 log2(P) latencies, 385 B per node + 22 B per bond + 60 MB per rank (RESULTS.md "
-          f"item 3 fit)")
-    print("| N | P | N/P | compute ms | ghosts/rank | halo MB/step | comm ms | step ms | "
+    check_model(res, a.layers)
+    bw, lat = a.bandwidth * 1e9 / 8, a.latency * 1e-6
+    print(f"\nmeasured: {b_per_ghost:.1f} B sent per ghost per step (x, u, v); {red:.2f} "
+          f"all-reduces per step; 1-rank loop {wall_rate:.3g} bond updates per wall s (shared "
+          f"host)\nassumed: {a.rate:.3g} bond updates per CPU s per core; {a.bonds_per_node} "
+          f"bonds per node; an interior rank owns a cube and its ghosts are the shell "
+          f"{a.layers} node layers deep; {a.peers:g} messages per step; {a.bandwidth:g} Gb/s, "
+          f"{a.latency:g} us per message, no overlap with compute; an all-reduce costs "
+          f"2 log2(P) latencies; memory {MEM_BASE / 1e6:.0f} MB + {MEM_NODE} B per node + "
+          f"{MEM_BOND} B per bond\n")
+    print("| N | P | N/P | ghosts/rank | compute ms | halo MB/step | comm ms | step ms | "
           "comm share | memory/rank today | memory/rank, item 1 |")
     print("|---" * 11 + "|")
     for n in a.model_nodes:
         for p in (64, 1024):
             own = n / p
-            g = c * own ** (2 / 3)
-            comp = own * bonds_per_node / rate
+            g = cube_halo(own, a.layers)
+            comp = own * a.bonds_per_node / a.rate
             byts = g * b_per_ghost
             comm = a.peers * lat + byts / bw + red * 2 * math.log2(p) * lat
-            b = n * bonds_per_node
-            today = 60e6 + 385 * n + 22 * b / p
-            dist = 60e6 + 385 * (own + g) + 22 * b / p
-            print(f"| {n:.3g} | {p} | {own:.3g} | {comp * 1e3:.3g} | {g:.3g} | {byts / 1e6:.3g} | "
-                  f"{comm * 1e3:.3g} | {(comp + comm) * 1e3:.3g} | {comm / (comp + comm):.3f} | "
-                  f"{today / 1e9:.3g} GB | {dist / 1e9:.3g} GB |")
+            b = n * a.bonds_per_node
+            print(f"| {n:.3g} | {p} | {own:.3g} | {g:.3g} | {comp * 1e3:.3g} | "
+                  f"{byts / 1e6:.3g} | {comm * 1e3:.3g} | {(comp + comm) * 1e3:.3g} | "
+                  f"{comm / (comp + comm):.3f} | {mem_today(n, b, p) / 1e9:.3g} GB | "
+                  f"{mem_item1(n, b, p, g) / 1e9:.3g} GB |")
 
 
 def main():
@@ -239,12 +262,19 @@ def main():
     ap.add_argument("--weak-edge", type=int, default=25, help="nodes along the edge at P = 1")
     ap.add_argument("--skip-strong", action="store_true")
     ap.add_argument("--skip-weak", action="store_true")
+    ap.add_argument("--fields", default="velocity,displacement",
+                    help="frame fields of the runs (/solver@fields); 'all': the file's")
+    ap.add_argument("--json", default="scaling.json", help="results file in --out")
     ap.add_argument("--partition-only", action="store_true", help="pack and partition, no run")
     ap.add_argument("--model", help="scaling.json of a measurement: print the model")
     ap.add_argument("--model-nodes", type=float, nargs="+", default=[5e6, 1e8])
     ap.add_argument("--bandwidth", type=float, default=100, help="Gb/s (InfiniBand EDR)")
     ap.add_argument("--latency", type=float, default=1.5, help="us")
     ap.add_argument("--peers", type=float, default=26, help="messages per step at scale")
+    ap.add_argument("--rate", type=float, default=6e8, help="bond updates per CPU s per core")
+    ap.add_argument("--bonds-per-node", type=float, default=179.6,
+                    help="bond entries per node (3D grid, delta = 3 h, families to 3.5 h)")
+    ap.add_argument("--layers", type=float, default=3, help="node layers of the ghost shell")
     a = ap.parse_args()
     if a.model:
         model(a)
