@@ -231,7 +231,8 @@ def model(a):
           f"host)\nassumed: {a.rate:.3g} bond updates per CPU s per core; {a.bonds_per_node} "
           f"bonds per node; an interior rank owns a cube and its ghosts are the shell "
           f"{a.layers} node layers deep; {a.peers:g} messages per step; {a.bandwidth:g} Gb/s, "
-          f"{a.latency:g} us per message, no overlap with compute; an all-reduce costs "
+          f"{a.latency:g} us per message, no overlap with compute; packing and unpacking "
+          f"at {a.copy:g} GB/s per core; an all-reduce costs "
           f"2 log2(P) latencies; memory {MEM_BASE / 1e6:.0f} MB + {MEM_NODE} B per node + "
           f"{MEM_BOND} B per bond\n")
     print("| N | P | N/P | ghosts/rank | compute ms | halo MB/step | comm ms | step ms | "
@@ -243,7 +244,8 @@ def model(a):
             g = cube_halo(own, a.layers)
             comp = own * a.bonds_per_node / a.rate
             byts = g * b_per_ghost
-            comm = a.peers * lat + byts / bw + red * 2 * math.log2(p) * lat
+            copy = 2 * byts / (a.copy * 1e9)  # pack what is sent, unpack what arrives
+            comm = a.peers * lat + byts / bw + red * 2 * math.log2(p) * lat + copy
             b = n * a.bonds_per_node
             print(f"| {n:.3g} | {p} | {own:.3g} | {g:.3g} | {comp * 1e3:.3g} | "
                   f"{byts / 1e6:.3g} | {comm * 1e3:.3g} | {(comp + comm) * 1e3:.3g} | "
@@ -274,6 +276,7 @@ def main():
     ap.add_argument("--rate", type=float, default=6e8, help="bond updates per CPU s per core")
     ap.add_argument("--bonds-per-node", type=float, default=179.6,
                     help="bond entries per node (3D grid, delta = 3 h, families to 3.5 h)")
+    ap.add_argument("--copy", type=float, default=5, help="GB/s of packing/unpacking a core")
     ap.add_argument("--layers", type=float, default=3, help="node layers of the ghost shell")
     a = ap.parse_args()
     if a.model:
