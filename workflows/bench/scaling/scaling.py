@@ -10,6 +10,7 @@ rank (bond and contact halo), bytes and messages sent per rank per step, the loo
 
   strong: one block (edge 63 h at --h, default 1 mm: 262 144 nodes), P = 1 2 4 8 16
   weak:   N/P fixed, the same box at h = 0.063 / round(--weak-edge * P^(1/3))
+  granular (--granular FILE): a packed pack of grains, whole grains per rank
 
 Then `--model RESULTS.json` prints the model of time per step and memory per rank at 64 and
 1024 ranks from the measured figures (assumptions in the output and in RESULTS.md).
@@ -79,20 +80,20 @@ def parse_ranks(stdout):
     return [ranks[r] for r in sorted(ranks)]
 
 
-def partitioned(bindir, base, ranks):
+def partitioned(bindir, base, ranks, by="node"):
     """A copy of `base` with /partition for `ranks` (kept: METIS on 4e7 bonds takes a while)."""
     f = base.replace(".h5", f"_p{ranks}.part.h5")
     if not os.path.exists(f):
         shutil.copy(base, f + ".tmp")
         if ranks > 1:
-            sh([f"{bindir}/pd-partition", f + ".tmp", "-n", str(ranks), "-q"])
+            sh([f"{bindir}/pd-partition", f + ".tmp", "-n", str(ranks), "--by", by, "-q"])
         os.rename(f + ".tmp", f)
     return f
 
 
-def solve(bindir, base, ranks, steps, out, fields):
+def solve(bindir, base, ranks, steps, out, fields, by="node"):
     f = base.replace(".h5", f"_p{ranks}.h5")
-    shutil.copy(partitioned(bindir, base, ranks), f)
+    shutil.copy(partitioned(bindir, base, ranks, by), f)
     if fields != "all":
         # The frame fields of the run (/solver@fields, pd-file 6.13): without `fragment`, whose
         # frames gather the whole bond list on every rank (it sets the peak of a node split).
@@ -161,7 +162,10 @@ def table(rows):
 
 def measure(a):
     os.makedirs(a.out, exist_ok=True)
-    res = {"strong": [], "weak": [], "steps": a.steps, "fields": a.fields}
+    res = {"strong": [], "weak": [], "granular": [], "steps": a.steps, "fields": a.fields}
+    if a.granular:
+        for p in a.ranks:
+            res["granular"].append(solve(a.bin, a.granular, p, a.steps, a.out, a.fields, "grain"))
     if a.partition_only:
         for p in a.ranks:
             partitioned(a.bin, pack(a.bin, a.out, a.h), p)
@@ -178,7 +182,7 @@ def measure(a):
             res["weak"].append(solve(a.bin, base, p, a.steps, a.out, a.fields))
     with open(os.path.join(a.out, a.json), "w") as f:
         json.dump(res, f, indent=1)
-    for k in ("strong", "weak"):
+    for k in ("strong", "weak", "granular"):
         if res[k]:
             print(f"\n{k}:")
             table([summary(r) for r in res[k]])
@@ -264,6 +268,8 @@ def main():
     ap.add_argument("--weak-edge", type=int, default=25, help="nodes along the edge at P = 1")
     ap.add_argument("--skip-strong", action="store_true")
     ap.add_argument("--skip-weak", action="store_true")
+    ap.add_argument("--granular", help="a packed granular pd-file (e.g. examples/pack3d_1000's "
+                    "1000 grains): the same runs, whole grains per rank (--by grain)")
     ap.add_argument("--fields", default="velocity,displacement",
                     help="frame fields of the runs (/solver@fields); 'all': the file's")
     ap.add_argument("--json", default="scaling.json", help="results file in --out")
