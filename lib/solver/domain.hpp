@@ -77,6 +77,8 @@ class Domain {
     std::size_t num_neighbours() const { return peers_.size(); }
     /// Messages and bytes since construction (differences of two snapshots give a run's).
     const Traffic& traffic() const { return traffic_; }
+    /// Starts from another domain's counts (a re-partition hands the run over to a new one).
+    void continue_traffic(const Traffic& t) { traffic_ = t; }
 
     /// Neighbour-only: every ghost gets its owner's values of each field (`ncomp` per node).
     void exchange(std::initializer_list<std::vector<double>*> fields, int ncomp);

@@ -103,7 +103,8 @@ void Solver::redistribute(Domain* dom) {
             f_.unload[{static_cast<std::int32_t>(all[k]), static_cast<std::int32_t>(all[k + 1])}] =
                 all[k + 2];
     }
-    // The new rows.
+    // The new rows; the new domain continues the old one's message counts (rank_report).
+    dom->continue_traffic(f_.dom->traffic());
     f_.dom = dom;
     if (f_.dom->num_nodes() != f_.s.n)
         throw InternalError("redistribute: a domain of another model");

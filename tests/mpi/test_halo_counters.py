@@ -85,3 +85,25 @@ def test_grain_split_has_contact_ghosts_only(tmp_path):
         assert rk["contact"] > 0
         assert rk["ghosts"] == rk["contact"]
         assert rk["sent_B_per_step"] > 0
+
+
+def test_counts_continue_across_a_rebalance(tmp_path):
+    """--rebalance hands the run to a new domain, whose counts go on from the old one's
+    (Domain::continue_traffic): the report stays whole after a re-partition. A sanity check
+    only: without continue_traffic the figures here stay positive too (the loop's start held
+    few counts), only smaller."""
+    sp = scenes.write(scenes.PACK50, tmp_path / "pack50.json")
+    f = tmp_path / "pack50.h5"
+    subprocess.run([f"{BIN}/pd-pack", str(sp), "-o", str(f), "-q"], check=True, env=ENV)
+    mpirun(1, "pd-partition", str(f), "-n", "2", "--by", "grain", "-q")
+    with h5py.File(f, "r+") as h:  # a poor partition: the first checkpoint re-partitions
+        owner = h["partition/owner"]
+        owner[...] = np.arange(owner.shape[0]) % 2
+    r = mpirun(2, "pd-solve", str(f), "--rebalance", "-v")
+    assert "re-partitioned" in r.stdout
+    ranks = parse_ranks(r.stdout)
+    assert len(ranks) == 2
+    for rk in ranks:
+        assert rk["sent_B_per_step"] > 0 and rk["recv_B_per_step"] > 0
+        assert rk["msgs_per_step"] > 0 and rk["reductions_per_step"] > 0
+        assert rk["gathered_B"] > 0
