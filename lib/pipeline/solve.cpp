@@ -11,6 +11,7 @@
 #include "h5/file.hpp"
 #include "pipeline/full_disk.hpp"
 #include "pipeline/partition.hpp"
+#include "pipeline/rank_report.hpp"
 #include "pipeline/restart_changes.hpp"
 #include "pipeline/run/schedule.hpp"
 #include "pipeline/run/signals.hpp"
@@ -350,6 +351,7 @@ struct Simulation::Impl {
     std::int64_t n = 0;   ///< the step the state is at
     bool stopped = false; ///< a stop request ended the loop
     bool closed = false;
+    RankMark loop0; ///< the counters as the step loop starts (rank_report)
 
     Impl(const SolveOptions& o, Context& c)
         : opt(o)
@@ -416,6 +418,7 @@ struct Simulation::Impl {
             timers.add(t_setup, wall_seconds() - wall0); // read, build, t = 0
             r->last_obs = s->observe();
             n = st.first;
+            loop0 = mark_rank(*s);
         } catch (const std::exception& e) {
             fail(e);
             throw;
@@ -551,6 +554,7 @@ int Simulation::close() {
     p.f.reset(); // collective close before rank 0 records provenance
     // Close.
     report(p.opt, p.ctx, p.in.m, *p.s, p.st, out, p.wall0);
+    report_ranks(p.ctx, *p.s, p.loop0, out.end - p.st.first);
     return p.ctx.exit_code;
 }
 

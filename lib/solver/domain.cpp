@@ -158,6 +158,13 @@ void Domain::exchange(std::initializer_list<std::vector<double>*> fields, int nc
         at += len;
     }
     MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+    ++traffic_.exchanges;
+    for (const auto& q : peers_) {
+        traffic_.messages_sent += q.send.empty() ? 0 : 1;
+        traffic_.messages_recv += q.recv.empty() ? 0 : 1;
+    }
+    traffic_.bytes_sent += static_cast<std::int64_t>(ns * per * sizeof(double));
+    traffic_.bytes_recv += static_cast<std::int64_t>(nr * per * sizeof(double));
     const double* b = recvbuf_.data();
     for (const auto& q : peers_)
         for (auto j : q.recv)
@@ -192,6 +199,8 @@ void Domain::gather_rows(std::vector<T>& a, const std::vector<offset_t>* offsets
     std::vector<T> all(static_cast<std::size_t>(disp[P]));
     MPI_Allgatherv(mine.data(), as_count(mine.size()), mpi_type<T>(), all.data(), cnt.data(),
                    disp.data(), mpi_type<T>(), comm_);
+    ++traffic_.gathers;
+    traffic_.gather_bytes += static_cast<std::int64_t>((all.size() - mine.size()) * sizeof(T));
     const T* b = all.data();
     for (auto i : order_) {
         const auto l = lo(i), h = hi(i);
@@ -221,6 +230,7 @@ double Domain::sum(double v) const {
     if (size_ == 1)
         return v;
     double r = 0;
+    ++traffic_.reductions;
     MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_SUM, comm_);
     return r;
 }
@@ -229,19 +239,23 @@ std::int64_t Domain::sum(std::int64_t v) const {
     if (size_ == 1)
         return v;
     std::int64_t r = 0;
+    ++traffic_.reductions;
     MPI_Allreduce(&v, &r, 1, MPI_INT64_T, MPI_SUM, comm_);
     return r;
 }
 
 void Domain::sum(std::vector<double>& v) const {
-    if (size_ > 1 && !v.empty())
+    if (size_ > 1 && !v.empty()) {
+        ++traffic_.reductions;
         MPI_Allreduce(MPI_IN_PLACE, v.data(), as_count(v.size()), MPI_DOUBLE, MPI_SUM, comm_);
+    }
 }
 
 double Domain::max(double v) const {
     if (size_ == 1)
         return v;
     double r = 0;
+    ++traffic_.reductions;
     MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_MAX, comm_);
     return r;
 }
@@ -254,13 +268,16 @@ bool Domain::any(bool v) const {
     if (size_ == 1)
         return v;
     int a = v ? 1 : 0, r = 0;
+    ++traffic_.reductions;
     MPI_Allreduce(&a, &r, 1, MPI_INT, MPI_MAX, comm_);
     return r != 0;
 }
 
 void Domain::max(std::vector<std::uint8_t>& v) const {
-    if (size_ > 1 && !v.empty())
+    if (size_ > 1 && !v.empty()) {
+        ++traffic_.reductions;
         MPI_Allreduce(MPI_IN_PLACE, v.data(), as_count(v.size()), MPI_UINT8_T, MPI_MAX, comm_);
+    }
 }
 
 } // namespace pd::solver

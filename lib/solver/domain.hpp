@@ -28,6 +28,21 @@ namespace pd::solver {
 /// [begin, end) along the node axis.
 using Runs = std::vector<std::array<std::uint64_t, 2>>;
 
+/// What this rank's messages carried since the Domain was built (issue 29 item 6): the
+/// neighbour-only ghost exchanges (point-to-point, counted per peer message) and the
+/// whole-array gathers (contact-list rebuilds, fragments; bytes this rank received). A few
+/// integer adds per call: nothing measurable against the messages themselves.
+struct Traffic {
+    std::int64_t exchanges = 0;     ///< exchange() calls
+    std::int64_t messages_sent = 0; ///< point-to-point sends of exchange()
+    std::int64_t messages_recv = 0;
+    std::int64_t bytes_sent = 0;
+    std::int64_t bytes_recv = 0;
+    std::int64_t gathers = 0;      ///< allgather calls (every rank gets every owner's rows)
+    std::int64_t gather_bytes = 0; ///< bytes received by them (the other ranks' rows)
+    std::int64_t reductions = 0;   ///< all-reduce calls (sum, max, min, any)
+};
+
 class Domain {
   public:
     /// One rank owns all `n` nodes (serial runs, unit tests). No MPI call is made.
@@ -60,6 +75,10 @@ class Domain {
     std::size_t num_ghosts() const { return num_ghosts_; }
     /// Number of ranks this rank exchanges ghosts with.
     std::size_t num_neighbours() const { return peers_.size(); }
+    /// Messages and bytes since construction (differences of two snapshots give a run's).
+    const Traffic& traffic() const { return traffic_; }
+    /// Starts from another domain's counts (a re-partition hands the run over to a new one).
+    void continue_traffic(const Traffic& t) { traffic_ = t; }
 
     /// Neighbour-only: every ghost gets its owner's values of each field (`ncomp` per node).
     void exchange(std::initializer_list<std::vector<double>*> fields, int ncomp);
@@ -99,6 +118,7 @@ class Domain {
     std::vector<Peer> peers_;
     std::size_t num_ghosts_ = 0;
     std::vector<double> sendbuf_, recvbuf_;
+    mutable Traffic traffic_; ///< gathers are const
 };
 
 } // namespace pd::solver

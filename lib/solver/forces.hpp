@@ -47,6 +47,9 @@ struct Forces {
     BodyLaw law;
     std::vector<index_t> bond_ghosts; ///< bond neighbours of owned nodes owned elsewhere
     bool bonds_cross_ranks = false;   ///< some bond joins nodes of two ranks
+    /// Contact halo: the distinct non-owned nodes the contact list reads (candidates, facet
+    /// vertices), bond ghosts among them included; set at each set_ghosts (MPI).
+    std::size_t contact_ghosts = 0;
     std::unique_ptr<ContactList> contact;
     std::unique_ptr<WallContact> walls;
     WallLoad wall_load; ///< rigid walls' reactions of the evaluation (walls, damping, friction)

@@ -5,13 +5,20 @@
 #include "solver/detail.hpp"
 #include "solver/solver.hpp"
 
+#include <algorithm>
+
 namespace pd::solver {
 
 using detail::rows_of;
 
 void set_ghosts(Forces& f) {
+    std::vector<index_t> c;
+    f.contact->ghosts(c);
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+    f.contact_ghosts = c.size();
     std::vector<index_t> g = f.bond_ghosts;
-    f.contact->ghosts(g);
+    g.insert(g.end(), c.begin(), c.end());
     f.dom->set_ghosts(g);
     f.dom->exchange({&f.s.x, &f.s.u, &f.s.v}, 3); // new ghosts' velocities (friction, damping)
 }
@@ -96,7 +103,8 @@ void Solver::redistribute(Domain* dom) {
             f_.unload[{static_cast<std::int32_t>(all[k]), static_cast<std::int32_t>(all[k + 1])}] =
                 all[k + 2];
     }
-    // The new rows.
+    // The new rows; the new domain continues the old one's message counts (rank_report).
+    dom->continue_traffic(f_.dom->traffic());
     f_.dom = dom;
     if (f_.dom->num_nodes() != f_.s.n)
         throw InternalError("redistribute: a domain of another model");

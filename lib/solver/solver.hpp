@@ -96,6 +96,11 @@ class Solver {
     /// Broken bonds counted from both ends, over all ranks (collective).
     std::int64_t broken_total() const { return f_.dom->sum(f_.broken_total); }
     const Domain& domain() const { return *f_.dom; }
+    /// This rank's bond halo (bond neighbours owned elsewhere) and contact halo (non-owned
+    /// nodes the contact list reads, bond ghosts among them included): the ghost counts of
+    /// issue 29 item 6 (MPI; 0 on one rank).
+    std::size_t bond_ghosts() const { return f_.bond_ghosts.size(); }
+    std::size_t contact_ghosts() const { return f_.contact_ghosts; }
 
     /// Continues from a checkpoint instead of initialize(): state, bond state and forces as they
     /// were, so the run continues bit for bit.
