@@ -54,6 +54,10 @@ std::vector<index_t> global_neighbors(const Forces& f);
 /// Broken bond ends in this rank's rows.
 std::int64_t count_broken(const Forces& f);
 
+// handover.cpp
+/// Every ghost gets its owner's u and v, and x = x0 + u (collective, neighbour-only).
+void exchange_motion(Forces& f);
+
 // conditions.cpp
 /// Per condition: the x and y range of its nodes (space functions); marks the prescribed
 /// components and sizes fbc when some condition is a force.

@@ -80,6 +80,13 @@ class Domain {
     /// Starts from another domain's counts (a re-partition hands the run over to a new one).
     void continue_traffic(const Traffic& t) { traffic_ = t; }
 
+    /// Calls f(i) for every ghost node i (after set_ghosts).
+    template <class F>
+    void for_each_ghost(F&& f) const {
+        for (const auto& p : peers_)
+            for (const auto i : p.recv)
+                f(i);
+    }
     /// Neighbour-only: every ghost gets its owner's values of each field (`ncomp` per node).
     void exchange(std::initializer_list<std::vector<double>*> fields, int ncomp);
     /// Every rank gets every node's values from its owner (`ncomp` per node).

@@ -11,6 +11,21 @@ namespace pd::solver {
 
 using detail::rows_of;
 
+namespace detail {
+void exchange_motion(Forces& f) {
+    // x = x0 + u holds bit for bit on every owner (the integrator, prescribed displacements
+    // and restores all write it so), so a ghost's position is recomputed from its u, not sent:
+    // 48 bytes per ghost and step instead of 72.
+    f.dom->exchange({&f.s.u, &f.s.v}, 3);
+    double* x = f.s.x.data();
+    const double *x0 = f.s.x0.data(), *u = f.s.u.data();
+    f.dom->for_each_ghost([&](index_t i) {
+        for (std::size_t k = 3 * static_cast<std::size_t>(i), e = k + 3; k < e; ++k)
+            x[k] = x0[k] + u[k];
+    });
+}
+} // namespace detail
+
 void set_ghosts(Forces& f) {
     std::vector<index_t> c;
     f.contact->ghosts(c);
@@ -20,7 +35,7 @@ void set_ghosts(Forces& f) {
     std::vector<index_t> g = f.bond_ghosts;
     g.insert(g.end(), c.begin(), c.end());
     f.dom->set_ghosts(g);
-    f.dom->exchange({&f.s.x, &f.s.u, &f.s.v}, 3); // new ghosts' velocities (friction, damping)
+    detail::exchange_motion(f); // new ghosts' velocities too (friction, damping)
 }
 
 void Solver::take_rows() {

@@ -244,7 +244,7 @@ void Solver::advance() {
     detail::apply_displacements(f_);
     if (f_.dom->distributed()) {
         ScopedTimer t(f_.timers, f_.t_halo);
-        f_.dom->exchange({&f_.s.x, &f_.s.u, &f_.s.v}, 3);
+        detail::exchange_motion(f_);
     }
     compute_forces();
     const double p = second_kick(verlet, kr);

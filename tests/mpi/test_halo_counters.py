@@ -5,8 +5,8 @@ independent count from the file gives.
 
 A 3D PMB block split by node over 2 ranks: rank r's ghosts are the nodes of the other rank that
 are bond neighbours of r's nodes (/bonds/offsets, /bonds/neighbor, /partition/owner). Each step
-exchanges x, u, v of the ghosts (9 doubles = 72 B a node) in one message to the one peer: rank
-r sends 72 B for every ghost of the other rank, per step. Two discs split by grain: no bond
+exchanges u and v of the ghosts (6 doubles = 48 B a node; x = x0 + u is recomputed) in one
+message to the one peer: rank r sends 48 B for every ghost of the other rank, per step. Two discs split by grain: no bond
 crosses the ranks, every ghost is a contact ghost."""
 import os
 import re
@@ -71,8 +71,8 @@ def test_block_ghosts_and_bytes_match_the_bond_list(tmp_path):
         assert rk["contact"] == 0  # one body: no contact list
         assert rk["peers"] == 1
         assert rk["msgs_per_step"] == 1  # x, u, v in one message per step
-        assert rk["sent_B_per_step"] == 72 * ghosts[1 - r]
-        assert rk["recv_B_per_step"] == 72 * ghosts[r]
+        assert rk["sent_B_per_step"] == 48 * ghosts[1 - r]
+        assert rk["recv_B_per_step"] == 48 * ghosts[r]
         assert rk["peak_rss_B"] > 0
         assert 0 <= rk["halo_s"] <= rk["loop_s"]
 

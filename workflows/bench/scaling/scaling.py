@@ -230,7 +230,7 @@ def model(a):
     red = max(s["reductions"] for s in multi)
     check_model(res, a.layers)
     bw, lat = a.bandwidth * 1e9 / 8, a.latency * 1e-6
-    print(f"\nmeasured: {b_per_ghost:.1f} B sent per ghost per step (x, u, v); {red:.2f} "
+    print(f"\nmeasured: {b_per_ghost:.1f} B sent per ghost per step (u, v: 48; x, u, v before: 72); {red:.2f} "
           f"all-reduces per step; 1-rank loop {wall_rate:.3g} bond updates per wall s (shared "
           f"host)\nassumed: {a.rate:.3g} bond updates per CPU s per core; {a.bonds_per_node} "
           f"bonds per node; an interior rank owns a cube and its ghosts are the shell "
