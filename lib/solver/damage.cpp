@@ -24,9 +24,11 @@ void Solver::broken_per_node(std::vector<double>& count) const {
 
 void Solver::fragments(std::vector<double>& id) const {
     // Union-find over intact bonds; the smaller root becomes the root, so every id is the
-    // smallest node index of its component whatever the order of the unions. When no bond joins
-    // two ranks (whole grains per rank) each rank's rows hold its nodes' components entirely;
-    // otherwise every rank needs every bond (gathered: memory of the whole bond list, briefly).
+    // smallest node index of its component whatever the order of the unions. Each rank unites
+    // over its rows' bonds (a bond to a ghost included); when bonds join two ranks, the ranks'
+    // labels are merged by element-wise minimum and united again until no label changes (the
+    // rounds: the number of rank crossings along a component's path, plus one). Memory: one
+    // label per node, not the gathered bond list; the ids are the same at any rank count.
     std::vector<index_t> parent(f_.s.n);
     for (std::size_t i = 0; i < f_.s.n; ++i)
         parent[i] = static_cast<index_t>(i);
@@ -43,23 +45,31 @@ void Solver::fragments(std::vector<double>& id) const {
         if (a != b)
             parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
     };
-    if (!f_.bonds_cross_ranks) {
-        for (std::size_t a = 0; a < f_.s.rows.size(); ++a)
-            for (auto k = f_.b.offsets[a]; k < f_.b.offsets[a + 1]; ++k)
-                if (f_.b.alive[static_cast<std::size_t>(k)])
-                    unite(f_.s.rows[a], f_.b.neighbor[static_cast<std::size_t>(k)]);
-    } else {
-        const auto alive = global_alive();
-        const auto neighbor = detail::global_neighbors(f_);
-        const auto& B = f_.m.bonds;
+    for (std::size_t a = 0; a < f_.s.rows.size(); ++a)
+        for (auto k = f_.b.offsets[a]; k < f_.b.offsets[a + 1]; ++k)
+            if (f_.b.alive[static_cast<std::size_t>(k)])
+                unite(f_.s.rows[a], f_.b.neighbor[static_cast<std::size_t>(k)]);
+    std::vector<index_t> label(f_.s.n);
+    auto labels = [&] {
         for (std::size_t i = 0; i < f_.s.n; ++i)
-            for (auto k = B.offsets[i]; k < B.offsets[i + 1]; ++k)
-                if (alive[static_cast<std::size_t>(k)])
-                    unite(static_cast<index_t>(i), neighbor[static_cast<std::size_t>(k)]);
-    }
+            label[i] = find(static_cast<index_t>(i));
+    };
+    labels();
+    if (f_.bonds_cross_ranks)
+        for (bool changed = true; changed;) {
+            f_.dom->min(label); // every rank's smallest label of each node
+            changed = false;
+            for (std::size_t i = 0; i < f_.s.n; ++i)
+                if (find(static_cast<index_t>(i)) != find(label[i])) {
+                    unite(static_cast<index_t>(i), label[i]);
+                    changed = true;
+                }
+            changed = f_.dom->any(changed);
+            labels();
+        }
     id.resize(f_.s.n);
     for (std::size_t i = 0; i < f_.s.n; ++i)
-        id[i] = static_cast<double>(find(static_cast<index_t>(i)));
+        id[i] = static_cast<double>(label[i]);
 }
 
 void Solver::damage_z(std::vector<double>& z) const {

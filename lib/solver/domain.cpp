@@ -273,6 +273,14 @@ bool Domain::any(bool v) const {
     return r != 0;
 }
 
+void Domain::min(std::vector<index_t>& v) const {
+    static_assert(sizeof(index_t) == 4, "MPI_INT32_T below");
+    if (size_ > 1 && !v.empty()) {
+        ++traffic_.reductions;
+        MPI_Allreduce(MPI_IN_PLACE, v.data(), as_count(v.size()), MPI_INT32_T, MPI_MIN, comm_);
+    }
+}
+
 void Domain::max(std::vector<std::uint8_t>& v) const {
     if (size_ > 1 && !v.empty()) {
         ++traffic_.reductions;

@@ -103,6 +103,7 @@ class Domain {
     double min(double v) const;
     bool any(bool v) const;
     void max(std::vector<std::uint8_t>& v) const; ///< in place, element-wise
+    void min(std::vector<index_t>& v) const;      ///< in place, element-wise
 
   private:
     template <class T>
