@@ -174,7 +174,8 @@ def test_file_moved_during_run(bin_dir, tmp_path, how):
 
 
 # ---------------------------------------------------------------------------------------------
-# Contact at any speed: a time-step limit from the velocities (v dt < R_c), not a swept search.
+# Contact at any speed: a time-step limit from the velocities (v dt below the contact's reach:
+# R_c on the node law, the mesh size h on the surface law, the default), not a swept search.
 
 
 @pytest.mark.parametrize("speed", [1e8, 1e5])
@@ -184,7 +185,20 @@ def test_too_fast_for_contact_stopped_at_start(bin_dir, tmp_path, speed):
         s["particles"][1]["velocity"] = [-speed, 0]
     f = pack(bin_dir, tmp_path, mutate=mutate)
     r = run(bin_dir / "pd-solve", f, timeout=120)
-    assert_refused(r, "stopped before step 1", "contact radius", "v dt < R_c", code=3)
+    assert_refused(r, "stopped before step 1", "contact radius R_c =", "v dt < R_c", code=3)
+
+
+def test_too_fast_on_the_surface_law_names_its_reach(bin_dir, tmp_path):
+    """The surface law (the default) reaches one mesh size h: the message names h, not R_c."""
+    def mutate(s):
+        s["contact"] = {"law": "surface"}
+        s["particles"][0]["velocity"] = [1e8, 0]
+        s["particles"][1]["velocity"] = [-1e8, 0]
+    f = pack(bin_dir, tmp_path, mutate=mutate)
+    r = run(bin_dir / "pd-solve", f, timeout=120)
+    assert_refused(r, "stopped before step 1", "contact reach (surface law: the mesh size) h =",
+                   "v dt < h", code=3)
+    assert "R_c" not in r.stderr
 
 
 @pytest.mark.parametrize("how", ["wall", "fixed_disc"])

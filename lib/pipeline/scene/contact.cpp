@@ -58,8 +58,12 @@ void report_horizons(const model::Model& m, const Log& log) {
                  g, r.n, r.dmin, r.dmax, r.hmin, r.hmax);
     for (const auto& p : m.contact) {
         const auto a = by_group.find(p.group_a), b = by_group.find(p.group_b);
-        log.info("contact groups {}-{}: stiffness Kn {:.4g}, radius R_c {:.4g} m", p.group_a,
-                 p.group_b, p.stiffness, p.radius);
+        if (p.law == model::ContactLaw::surface)
+            log.info("contact groups {}-{}: surface law, c {:.4g} N m-5, reach h {:.4g} m",
+                     p.group_a, p.group_b, p.stiffness, p.radius);
+        else
+            log.info("contact groups {}-{}: stiffness Kn {:.4g}, radius R_c {:.4g} m", p.group_a,
+                     p.group_b, p.stiffness, p.radius);
         if (!(p.stiffness > 0) || a == by_group.end() || b == by_group.end())
             continue; // no contact, or a rigid wall (no horizon)
         const double lo = std::min(a->second.dmin, b->second.dmin);

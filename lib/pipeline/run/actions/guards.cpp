@@ -257,11 +257,16 @@ Closing fastest_closing(const Run& r) {
 /// Empty when it does (collective).
 std::string too_fast(const Run& r) {
     double rc = std::numeric_limits<double>::infinity();
+    bool surface = false; // the smallest reach is a surface law's (its mesh size h)
     for (const auto& p : r.m.contact)
-        if (p.radius > 0)
-            rc = std::min(rc, p.radius);
+        if (p.radius > 0 && p.radius < rc) {
+            rc = p.radius;
+            surface = p.law == model::ContactLaw::surface;
+        }
     if (!std::isfinite(rc))
         return {};
+    const char* reach = surface ? "contact reach (surface law: the mesh size)" : "contact radius";
+    const char* sym = surface ? "h" : "R_c";
     const auto fc = fastest_closing(r);
     const double v = fc.speed;
     if (!(v * r.steps.dt >= rc))
@@ -273,13 +278,13 @@ std::string too_fast(const Run& r) {
                                    "{:.4g}, {:.4g}) m/s",
                                    fc.centre[0], fc.centre[1], fc.centre[2]);
     return fmt::format("node {} of body {} moves at {:.4g} m/s {}, {:.4g} m per step (dt = "
-                       "{:.4g} s), not less than the smallest contact radius R_c = {:.4g} m: "
+                       "{:.4g} s), not less than the smallest {} {} = {:.4g} m: "
                        "grains can pass through each other or a wall between two steps with no "
-                       "contact seen. The contact search needs v dt < R_c: dt below {:.4g} s "
+                       "contact seen. The contact search needs v dt < {}: dt below {:.4g} s "
                        "(solver.dt or dt_safety) or slower grains (--no-penetration-check runs "
                        "on)",
                        fc.node, r.s.state().body[fc.node], v, against, v * r.steps.dt, r.steps.dt,
-                       rc, rc / v);
+                       reach, sym, rc, sym, rc / v);
 }
 
 class Guards final : public Action {
