@@ -55,7 +55,7 @@ def test_horizon_factor_is_a_multiple_of_mesh_size(pd_pack, tmp_path):
     np.testing.assert_allclose(horizon, 6e-4, rtol=1e-12)
     assert "group 0: 2 grains, horizon 0.0006-0.0006 m" in log
     assert "group 1: 2 grains, horizon 0.0006-0.0006 m" in log
-    assert "contact groups 0-1: stiffness Kn" in log
+    assert "contact groups 0-1: surface law, c" in log  # the default law
     assert "horizons range" not in log
 
 
