@@ -239,6 +239,7 @@ void ContactList::set_owned(const Domain& dom) {
     std::fill(owned_.begin(), owned_.end(), std::uint8_t{0});
     for (auto i : dom.rows())
         owned_[static_cast<std::size_t>(i)] = 1;
+    facet_rows_stale_ = true; // count_whole's rows follow the owned rows
 }
 
 bool ContactList::last_build(std::vector<double>& x, std::vector<std::uint8_t>& whole) const {

@@ -104,7 +104,6 @@ class ContactList {
     /// The next update() rebuilds (after a change of ownership).
     void invalidate() {
         built_ = false;
-        facet_rows_stale_ = true;
         touched_known_ = false; // rows may have changed ranks: no history (surface_row)
     }
     /// The surface law's depth history (surface_history.cpp) for a checkpoint: the owned nodes'
