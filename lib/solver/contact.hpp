@@ -181,17 +181,22 @@ class ContactList {
     struct Event;
     struct Best;
     struct Blend;
+    struct Touched;
     /// 2D: node xi behind facet f (closest point weights w) near a convex vertex of f: the
     /// smoothed depth and its two facets' shares (surface_contact.cpp); false: no smoothing.
     bool vertex_blend(std::int32_t f, const double* w, const double* xi, const State& s,
                       Blend& out) const;
-    /// Node i at depth d behind `facet` of `body`: within the motion since the last evaluation
-    /// (four times the fastest of i and the facet's vertices times the time since, plus twice
-    /// the law's onset) of its depth then (0 when it was not inside; surface_history.cpp).
-    bool depth_continuous(std::size_t i, std::int32_t body, std::int32_t facet, double onset,
-                          double d, const State& s) const;
-    /// touched_ from this evaluation's events, at `time` (surface_history.cpp).
-    void remember_depths(double time) const;
+    /// Node i at depth d behind `facet` of `body` (foot point weights w): the pair not held,
+    /// and d within the motion since the last evaluation, plus twice the law's onset, of its
+    /// depth then: four times the fastest of i and the facet's vertices times the time since;
+    /// entering, twice i's speed relative to its foot point (surface_history.cpp).
+    bool depth_continuous(std::size_t i, std::int32_t body, std::int32_t facet, const double* w,
+                          double onset, double d, const State& s) const;
+    /// touched_ from this evaluation's events and marks, at `time` (surface_history.cpp).
+    void remember_depths(double time, std::vector<Touched>& marks) const;
+    /// Is (i, body) held (touched_ with depth held_mark)?
+    bool held(std::size_t i, std::int32_t body) const;
+    void count_held() const; ///< held_count_ from touched_
     void closest_facets(std::size_t a, std::size_t i, const State& s,
                         std::vector<Best>& best) const;
     struct Sums {
@@ -199,8 +204,10 @@ class ContactList {
         std::int32_t first_body = -1;
         double energy = 0;
     };
+    /// Row a's events into `out`; into `marks` (if given) the pairs held this evaluation
+    /// (depth held_mark) and the held pairs found outside (depth free_mark).
     void surface_row(std::size_t a, const State& s, std::vector<Event>& out,
-                     std::vector<Best>& best) const;
+                     std::vector<Best>& best, std::vector<Touched>* marks) const;
     void apply_events(State& s, Sums& sums, std::vector<BodyPairForce>* normal) const;
     template <class Keyed, class RowOf>
     void ghost_rows(const Keyed& keyed, const std::vector<std::vector<index_t>>& rows,
@@ -261,9 +268,10 @@ class ContactList {
     struct Touched {
         index_t i;
         std::int32_t body;
-        double depth;
+        double depth; ///< m, >= 0; held_mark: held; free_mark (marks only): seen outside
         bool operator<(const Touched& o) const { return i != o.i ? i < o.i : body < o.body; }
     };
+    static constexpr double held_mark = -1, free_mark = -2;
     mutable std::vector<Event> events_;
     double released_ = 0;                 ///< J, take_released()
     std::vector<std::size_t> facet_rows_; ///< the rows of owned facet vertices (count_whole)
@@ -272,9 +280,11 @@ class ContactList {
     mutable std::vector<double> sphere_; ///< per facet, this evaluation: centroid, reach
     /// (node, body it is inside, depth) of the last evaluation's events, sorted: a pair's depth
     /// grows by at most what its nodes moved since (depth_continuous), and a pair not among
-    /// them enters from the boundary. Known from the second evaluation on after a start,
-    /// restart or change of ownership.
+    /// them enters from the boundary. With them the held pairs (depth held_mark): a node found
+    /// inside by a jump gets no force from that body until an evaluation finds it outside.
+    /// Known from the second evaluation on after a start, restart or change of ownership.
     mutable std::vector<Touched> touched_;
+    mutable std::size_t held_count_ = 0; ///< held entries in touched_
     mutable bool touched_known_ = false;
     mutable double touched_time_ = 0; ///< s, the time of touched_
 };

@@ -49,7 +49,7 @@ void write_checkpoint(h5::File& f, const Checkpoint& c) {
     if (!c.interval_sum.empty())
         f.set_attr(g, "interval_sum", c.interval_sum);
     if (!c.build_x.empty() || c.depth_time >= 0)
-        raise_version(f); // pd-file 1.9.0 objects
+        raise_version(f); // pd-file 1.9.0 objects (1.9.1: held pairs)
     if (!c.build_x.empty()) {
         f.write_runs<double>(g + "/surface_build_position", c.build_x, {n, 3}, nodes);
         f.set_attr(g + "/surface_build_position", "unit", "m");
@@ -102,11 +102,13 @@ void read_surface_state(const h5::File& f, const std::string& g, std::size_t num
         throw SchemaError(f.name(), g + "/surface_depths",
                           "the depth history does not match its pairs or its time");
     for (std::size_t k = 0; k < c.depths.size(); ++k)
-        if (!std::isfinite(c.depths[k]) || c.depths[k] < 0 || c.depth_pairs[2 * k] < 0 ||
+        if (!std::isfinite(c.depths[k]) || (c.depths[k] < 0 && c.depths[k] != -1) ||
+            c.depth_pairs[2 * k] < 0 ||
             static_cast<std::size_t>(c.depth_pairs[2 * k]) >= num_nodes ||
             c.depth_pairs[2 * k + 1] < 0)
-            throw SchemaError(f.name(), g + "/surface_depths",
-                              fmt::format("entry {}: not a node, body and depth >= 0", k));
+            throw SchemaError(
+                f.name(), g + "/surface_depths",
+                fmt::format("entry {}: not a node, body and depth >= 0 (or -1: held)", k));
 }
 
 } // namespace

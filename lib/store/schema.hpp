@@ -15,8 +15,8 @@ namespace pd::store {
 inline constexpr const char* schema_name = "pd-file";
 inline constexpr int schema_major = 1;
 inline constexpr int schema_minor = 9; // kept equal to schema_version (raise_version compares them)
-inline constexpr int schema_patch = 0;
-inline constexpr const char* schema_version = "1.9.0";
+inline constexpr int schema_patch = 1;
+inline constexpr const char* schema_version = "1.9.1";
 
 namespace path {
 // root attributes: schema, schema_version, units, dimension, planar, thickness, title

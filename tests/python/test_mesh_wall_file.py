@@ -42,7 +42,7 @@ def packed(tmp_path_factory, bin_dir):
 
 def test_polyline_is_stored_solved_and_drawn(packed, bin_dir, tmp_path):
     with h5py.File(packed, "r") as f:
-        assert f.attrs["schema_version"] in ("1.9.0", b"1.9.0")
+        assert f.attrs["schema_version"] in ("1.9.1", b"1.9.1")
         assert list(f["walls/shape"][()]) == [0, 3]
         assert "0" not in f["walls/mesh"]  # the plane has no surface
         np.testing.assert_array_equal(f["walls/mesh/1/points"][()],

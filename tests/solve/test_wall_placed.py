@@ -91,7 +91,7 @@ def test_plate_enters_above_the_settled_grains(placed):
     h5, out = placed
     assert "wall 'plate' enters above the grains at t = " in out, out
     with h5py.File(h5, "r") as f:
-        assert f.attrs["schema_version"] == "1.9.0"
+        assert f.attrs["schema_version"] == "1.9.1"
         assert f["walls/enter"][()].tolist() == [0, 1]
         assert f["walls/gap"][1] == GAP
         y = f["walls/point"][1, 1]
