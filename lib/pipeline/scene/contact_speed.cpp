@@ -187,7 +187,7 @@ double needed_modulus(const PairMaterials& pm, double v) {
 
 void raise_for_speed(SceneBuild& s) {
     auto& m = s.m;
-    double v = -1;
+    double v = -1, f_max = 0;
     for (std::size_t q = 0; q < m.contact.size(); ++q) {
         auto& p = m.contact[q];
         if (q >= s.contact_auto.size() || !s.contact_auto[q] ||
@@ -199,6 +199,7 @@ void raise_for_speed(SceneBuild& s) {
         if (!(v > 0) || !(pm.kappa > 0) || !(pm.rho > 0) || !std::isfinite(pm.e_star))
             continue;
         const double f = needed_modulus(pm, v) / pm.kappa;
+        f_max = std::max(f_max, f);
         if (f > 1) {
             p.stiffness *= f;
             s.log.info("contact groups {}-{}: surface law stiffness x {:.3g} for impacts up to "
@@ -206,6 +207,10 @@ void raise_for_speed(SceneBuild& s) {
                        p.group_a, p.group_b, f, v, v / std::sqrt(pm.kappa / pm.rho), p.stiffness);
         }
     }
+    if (f_max > 0 && f_max <= 1)
+        s.log.info("surface law: impacts up to {:.3g} m/s ask at most {:.3g} x kappa / h^2: the "
+                   "stiffness stays kappa / h^2",
+                   v, f_max);
 }
 
 } // namespace pd::pipeline::scene
