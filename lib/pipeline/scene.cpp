@@ -84,6 +84,7 @@ model::Model build_scene_impl(const std::string& source_text, const std::string&
     scene::parse_loading(s);
     scene::parse_cracks(s);
     scene::parse_solver(s);
+    scene::raise_for_speed(s);
     m.check_consistency();
     return m;
 }

@@ -80,6 +80,9 @@ struct SceneBuild {
     std::vector<Instance> inst;
     std::map<std::string, Ref> refs;
     std::vector<double> h_nominal_of; ///< per body: its shape's nominal mesh size
+    /// Per row of m.contact: 1 if its stiffness is the surface law's rule (kappa / h^2, times
+    /// any stiffness_factor), which raise_for_speed may raise; 0 if given or a node law.
+    std::vector<std::uint8_t> contact_auto;
 };
 
 /// "materials" (materials.cpp).
@@ -117,6 +120,10 @@ void parse_loading(SceneBuild& s);
 void parse_cracks(SceneBuild& s);
 /// "solver" (solver_settings.cpp).
 void parse_solver(SceneBuild& s);
+/// Raises the surface law's automatic stiffness where the scene's speeds need it: the penalty
+/// must hold an impact's pressure within h/4 (contact_speed.cpp; after the walls, the loading
+/// and the solver's final time are known).
+void raise_for_speed(SceneBuild& s);
 
 /// A shape (a container, a named shape's geometry); relative surface_mesh files are resolved
 /// against `base` (the scene file's folder) (shapes.cpp).

@@ -129,9 +129,11 @@ struct ContactLaws {
     }
 
     /// The node-to-surface law: c = surface_beta kappa / h^2 x stiffness_factor, or a given
-    /// stiffness (N m-5); restitution and friction as for any law.
+    /// stiffness (N m-5); restitution and friction as for any law. `automatic`: whether c is
+    /// the rule's (computed here, or kept from a base whose c was), which
+    /// raise_for_speed (contact_speed.cpp) may raise once the scene's speeds are known.
     model::ContactPair surface_law(const json& o, const std::string& w, model::ContactPair p,
-                                   bool inherit, bool keep_stiffness) const {
+                                   bool inherit, bool keep_stiffness, bool& automatic) const {
         for (const char* k : {"radius", "radius_factor", "radius_mesh_factor"})
             if (o.contains(k))
                 throw ConfigError(w + "." + k, "the surface law has no contact radius (it acts "
@@ -146,10 +148,12 @@ struct ContactLaws {
             p.stiffness = number(o, w, "stiffness", 0); // N m-5; 0: this pair does not interact
             if (p.stiffness < 0)
                 throw ConfigError(w + ".stiffness", "must be >= 0 (0 = no contact), or \"auto\"");
+            automatic = false;
         } else if (o.contains("stiffness") || o.contains("stiffness_factor") || !keep_stiffness) {
             text(o, w, "stiffness", "auto", {"auto"});
             p.stiffness = surface_beta * pair_modulus(p.group_a, p.group_b) /
                           (p.radius * p.radius) * number(o, w, "stiffness_factor", 1.0);
+            automatic = true;
         }
         return p;
     }
@@ -169,8 +173,10 @@ struct ContactLaws {
         return base ? base->law : default_law;
     }
 
+    /// `automatic`: in, whether the base's stiffness is the surface law's rule; out, this law's.
     model::ContactPair make_law(const json& o, const std::string& w, std::int32_t ga,
-                                std::int32_t gb, const model::ContactPair* base) const {
+                                std::int32_t gb, const model::ContactPair* base,
+                                bool& automatic) const {
         const auto& B = m.bodies;
         model::ContactPair p = base ? *base : model::ContactPair{};
         p.group_a = ga;
@@ -178,7 +184,8 @@ struct ContactLaws {
         p.law = choose_law(o, w, base);
         const bool law_changed = base && p.law != base->law;
         if (p.law == model::ContactLaw::surface)
-            return surface_law(o, w, p, base != nullptr, base && !law_changed);
+            return surface_law(o, w, p, base != nullptr, base && !law_changed, automatic);
+        automatic = false;
 
         const int radius_keys = int(o.contains("radius")) + int(o.contains("radius_factor")) +
                                 int(o.contains("radius_mesh_factor"));
@@ -266,10 +273,14 @@ void parse_contact(SceneBuild& s) {
         groups.insert(wall.group);
     double delta_max = *std::max_element(B.horizon.begin(), B.horizon.end());
     const ContactLaws laws{c, m, s.h_nominal_of, s.dz.h_ref, hmin, delta_max};
+    s.contact_auto.clear();
     for (auto ga : groups)
         for (auto gb : groups)
-            if (gb >= ga)
-                m.contact.push_back(laws.make_law(c, "contact", ga, gb, nullptr));
+            if (gb >= ga) {
+                bool automatic = false;
+                m.contact.push_back(laws.make_law(c, "contact", ga, gb, nullptr, automatic));
+                s.contact_auto.push_back(automatic ? 1 : 0);
+            }
     if (c.contains("pairs")) {
         if (!c["pairs"].is_array())
             throw ConfigError("contact.pairs", "expected a list");
@@ -284,11 +295,15 @@ void parse_contact(SceneBuild& s) {
                        gb = static_cast<std::int32_t>(
                            std::clamp(pj["groups"][1].get<double>(), -1e9, 1e9));
             bool found = false;
-            for (auto& p : m.contact)
+            for (std::size_t q = 0; q < m.contact.size(); ++q) {
+                auto& p = m.contact[q];
                 if ((p.group_a == ga && p.group_b == gb) || (p.group_a == gb && p.group_b == ga)) {
-                    p = laws.make_law(pj, w, p.group_a, p.group_b, &p);
+                    bool automatic = s.contact_auto[q] != 0;
+                    p = laws.make_law(pj, w, p.group_a, p.group_b, &p, automatic);
+                    s.contact_auto[q] = automatic ? 1 : 0;
                     found = true;
                 }
+            }
             if (!found)
                 throw ConfigError(w + ".groups",
                                   fmt::format("no particle or wall is in group {} or {}", ga, gb));

@@ -303,6 +303,8 @@ TEST(WallWork, MovingWallWorkIsExactAtFirstContact) {
     // the limit: within 0.65 / 1.85 % from the first contact step on. The surface law's stiffer
     // spring leaves Velocity Verlet's synchronous kinetic energy dt^2 F^2 / (8 m) at the first
     // contact step (11 / 27 % of the contact energy); it telescopes: 0.41 / 2.45 % ten steps on.
+    // The plate's 10 m/s (Mach 0.06 of the grain) raises the surface law's stiffness to 1.2 x
+    // kappa / h^2 (pipeline/scene/contact_speed.cpp): 0.55 / 3.05 % ten steps on.
     for (const char* law : {"node", "surface"})
         for (double safety : {0.5, 0.85}) {
             auto m = pipeline::build_scene(std::string(R"({"dimension": 2,
@@ -333,7 +335,7 @@ TEST(WallWork, MovingWallWorkIsExactAtFirstContact) {
             }
             std::printf("[ plate ] %s law, dt %.2f x limit: |E - W| / E at most %.4f\n", law,
                         safety, worst);
-            EXPECT_LT(worst, node ? 0.025 : 0.03) << law << " " << safety;
+            EXPECT_LT(worst, node ? 0.025 : 0.035) << law << " " << safety;
         }
 }
 
