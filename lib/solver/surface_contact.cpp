@@ -418,17 +418,10 @@ void ContactList::surface_row(std::size_t a, const State& s, std::vector<Event>&
         const double d1 = 0.5 * h_body_[static_cast<std::size_t>(b.body)], d2 = 2 * d1;
         if (d >= d2)
             continue;
-        // Depth grows continuously: between two evaluations a node gets at most its motion
-        // relative to the facet deeper, and it comes into contact by crossing the boundary. A
-        // depth that grew by more than twice that since the last evaluation (plus the onset)
-        // is not a node that came through this boundary: the closest facet changed under it (a
-        // facet torn, or a corner of a breaking grain rearranged) or the inside test flipped. A
-        // force from that depth would create its energy at once (a 3D cuboid's corner: the
-        // contact energy x10 in one step, nodes flung at 35 m/s); the pair is held (no force)
-        // until an evaluation finds the node outside that body. Were it let back in at the depth
-        // where the jump allowance (which grows with the speeds) next admits it, the force would
-        // create U(d) V there: in examples/oedometer_3d such re-entries at 7-11 um (1e-7 J each)
-        // were the energy balance's drift once grains chipped (+3.2e-6 J of 3.8e-6 J).
+        // Depth grows continuously, and a node enters from the boundary (depth_continuous,
+        // surface_history.cpp): a jumped depth is not a node that came through this boundary,
+        // and a force from it would create its energy at once; the pair is held (no force)
+        // until an evaluation finds the node outside that body.
         const double d0 = onset_share * b.law->radius;
         if (touched_known_ && !depth_continuous(i, b.body, b.facet, b.w, d0, d, s)) {
             if (marks)
