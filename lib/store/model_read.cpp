@@ -556,14 +556,27 @@ namespace detail {
 void check_bond_pairs(const h5::File& f, const std::vector<std::int64_t>& offsets,
                       const std::vector<std::int32_t>& neighbor) {
     const std::string p = std::string(path::bonds) + "/neighbor";
-    std::vector<std::int32_t> sorted(neighbor.begin(), neighbor.end());
     const std::size_t n = offsets.size() - 1;
+    // pd-pack writes every row in increasing order (no node twice): then the rows are searched
+    // where they are, without a sorted copy (4 B per bond) and its sorts.
+    bool increasing = true;
+    for (std::size_t i = 0; i < n && increasing; ++i)
+        for (auto k = offsets[i] + 1; k < offsets[i + 1]; ++k)
+            if (neighbor[static_cast<std::size_t>(k - 1)] >= neighbor[static_cast<std::size_t>(k)]) {
+                increasing = false;
+                break;
+            }
+    std::vector<std::int32_t> copy;
+    if (!increasing)
+        copy.assign(neighbor.begin(), neighbor.end());
+    const std::vector<std::int32_t>& sorted = increasing ? neighbor : copy;
     auto row = [&](std::size_t i) {
         return std::pair{sorted.begin() + offsets[i], sorted.begin() + offsets[i + 1]};
     };
     for (std::size_t i = 0; i < n; ++i) {
         auto [lo, hi] = row(i);
-        std::sort(lo, hi);
+        if (!increasing)
+            std::sort(copy.begin() + offsets[i], copy.begin() + offsets[i + 1]);
         if (const auto d = std::adjacent_find(lo, hi); d != hi)
             throw SchemaError(
                 f.name(), p, fmt::format("node {} lists node {} twice (a duplicated bond)", i, *d));
