@@ -285,8 +285,15 @@ class BondOperator {
 
 } // namespace
 
+double round_step(double dt, int digits) {
+    if (!std::isfinite(dt) || !(dt > 0))
+        return dt;
+    const double unit = std::pow(10.0, std::floor(std::log10(dt)) - (digits - 1));
+    return std::floor(dt / unit * (1 + 1e-9)) * unit;
+}
+
 BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
-                           int max_iterations, double tolerance) {
+                           int max_iterations, double tolerance, int step_digits) {
     BondSpectrum r;
     BondOperator A(s, b, law, dom);
     const std::size_t n3 = 3 * s.n;
@@ -342,9 +349,14 @@ BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law
         beta.push_back(be);
         // Converged: the top Ritz value is steady and its residual small.
         settled = std::abs(r.ritz - last) <= tolerance * r.ritz ? settled + 1 : 0;
+        // The step decided: both ends of lambda_max's bracket round to the same step.
+        const bool decided =
+            step_digits > 0 && it > 0 && std::abs(r.ritz - last) <= r.residual &&
+            round_step(critical_dt(r.ritz), step_digits) ==
+                round_step(critical_dt(r.lambda()), step_digits);
         last = r.ritz;
         if (!(be > 1e-14 * std::abs(r.ritz)) ||
-            (settled >= 3 && r.residual <= 10 * tolerance * r.ritz))
+            (settled >= 3 && r.residual <= 10 * tolerance * r.ritz) || decided)
             break;
         q_prev.swap(q);
         for (auto row : s.rows) {
