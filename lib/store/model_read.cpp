@@ -583,7 +583,24 @@ void check_bond_pairs(const h5::File& f, const std::vector<std::int64_t>& offset
         if (std::binary_search(lo, hi, static_cast<std::int32_t>(i)))
             throw SchemaError(f.name(), p, fmt::format("node {} is bonded to itself", i));
     }
-    for (std::size_t i = 0; i < n; ++i) {
+    // Symmetric iff, visiting i in increasing order, each j listed by i finds i next in its
+    // (sorted) row, and every row is used up: one cursor per row, no search. Only a failure
+    // searches, to name the first pair in row order.
+    std::vector<std::int64_t> next(offsets.begin(), offsets.end() - 1);
+    bool symmetric = true;
+    for (std::size_t i = 0; i < n && symmetric; ++i)
+        for (auto k = offsets[i]; k < offsets[i + 1]; ++k) {
+            const auto j = static_cast<std::size_t>(sorted[static_cast<std::size_t>(k)]);
+            auto& c = next[j];
+            if (c == offsets[j + 1] || sorted[static_cast<std::size_t>(c)] != static_cast<std::int32_t>(i)) {
+                symmetric = false;
+                break;
+            }
+            ++c;
+        }
+    for (std::size_t i = 0; i < n && symmetric; ++i)
+        symmetric = next[i] == offsets[i + 1];
+    for (std::size_t i = 0; i < n && !symmetric; ++i) {
         const auto [lo, hi] = row(i);
         for (auto it = lo; it != hi; ++it) {
             const auto [jl, jh] = row(static_cast<std::size_t>(*it));
