@@ -212,9 +212,9 @@ void pow4_into(const double* u, double* p, std::size_t count, Pow4Memo& memo) {
         q = _mm_mul_pd(a, a);
         const __m128d t = _mm_mul_pd(split, a);
         const __m128d hi = _mm_sub_pd(t, _mm_sub_pd(t, a)), lo = _mm_sub_pd(a, hi);
-        e = _mm_add_pd(_mm_add_pd(_mm_sub_pd(_mm_mul_pd(hi, hi), q),
-                                  _mm_mul_pd(_mm_mul_pd(two, hi), lo)),
-                       _mm_mul_pd(lo, lo));
+        e = _mm_add_pd(
+            _mm_add_pd(_mm_sub_pd(_mm_mul_pd(hi, hi), q), _mm_mul_pd(_mm_mul_pd(two, hi), lo)),
+            _mm_mul_pd(lo, lo));
     };
     for (; k + 1 < count; k += 2) {
         const __m128d v = _mm_loadu_pd(u + k);
@@ -225,9 +225,9 @@ void pow4_into(const double* u, double* p, std::size_t count, Pow4Memo& memo) {
         const __m128d r = _mm_add_pd(hi, lo);
         const __m128d d = _mm_sub_pd(lo, _mm_sub_pd(r, hi));
         const __m128d pow2 = _mm_and_pd(r, expo); // r without its mantissa (r >= 0)
-        const __m128d ok = _mm_and_pd(
-            _mm_and_pd(_mm_cmpge_pd(r, tiny), _mm_cmpneq_pd(r, pow2)),
-            _mm_cmple_pd(_mm_and_pd(d, abs), _mm_mul_pd(tol, _mm_mul_pd(pow2, ulp52))));
+        const __m128d ok =
+            _mm_and_pd(_mm_and_pd(_mm_cmpge_pd(r, tiny), _mm_cmpneq_pd(r, pow2)),
+                       _mm_cmple_pd(_mm_and_pd(d, abs), _mm_mul_pd(tol, _mm_mul_pd(pow2, ulp52))));
         _mm_storeu_pd(p + k, r);
         const int m = _mm_movemask_pd(ok);
         if (!(m & 1))

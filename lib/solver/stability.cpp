@@ -204,9 +204,8 @@ class BondOperator {
                                     _mm_mul_pd(d[2], d[2]));
             const V dd = _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], dw[0]), _mm_mul_pd(d[1], dw[1])),
                                     _mm_mul_pd(d[2], dw[2]));
-            const V kb =
-                _mm_set_pd(pmb_stiffness(ka + 1, static_cast<std::size_t>(jb), body),
-                           pmb_stiffness(ka, static_cast<std::size_t>(ja), body));
+            const V kb = _mm_set_pd(pmb_stiffness(ka + 1, static_cast<std::size_t>(jb), body),
+                                    pmb_stiffness(ka, static_cast<std::size_t>(ja), body));
             const V t = _mm_div_pd(_mm_mul_pd(kb, dd), l2);
             for (int c = 0; c < 3; ++c)
                 acc[c] = _mm_add_pd(acc[c], _mm_mul_pd(t, d[c]));
@@ -354,10 +353,9 @@ BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law
         // Converged: the top Ritz value is steady and its residual small.
         settled = std::abs(r.ritz - last) <= tolerance * r.ritz ? settled + 1 : 0;
         // The step decided: both ends of lambda_max's bracket round to the same step.
-        const bool decided =
-            step_digits > 0 && it > 0 && std::abs(r.ritz - last) <= r.residual &&
-            round_step(critical_dt(r.ritz), step_digits) ==
-                round_step(critical_dt(r.lambda()), step_digits);
+        const bool decided = step_digits > 0 && it > 0 && std::abs(r.ritz - last) <= r.residual &&
+                             round_step(critical_dt(r.ritz), step_digits) ==
+                                 round_step(critical_dt(r.lambda()), step_digits);
         last = r.ritz;
         if (!(be > 1e-14 * std::abs(r.ritz)) ||
             (settled >= 3 && r.residual <= 10 * tolerance * r.ritz) || decided)

@@ -6,13 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <random>
-#include <algorithm>
-#include <array>
 #include <limits>
+#include <random>
 #include <vector>
 
 namespace {
@@ -103,7 +103,8 @@ std::vector<double> ref_moments(const FamilyRows& f, const std::vector<double>& 
             double u[3];
             ref_direction(f, i, j, u);
             const double wk =
-                g.empty() ? w[kk] : pd::model::surface_bond_factor(u, at(g, i), at(g, j), d) * w[kk];
+                g.empty() ? w[kk]
+                          : pd::model::surface_bond_factor(u, at(g, i), at(g, j), d) * w[kk];
             for (int c = 0; c < d; ++c)
                 out[3 * i + static_cast<std::size_t>(c)] += wk * std::pow(u[c], 4);
         }
@@ -116,8 +117,8 @@ std::vector<double> ref_factors(const FamilyRows& f, const std::vector<double>& 
     auto update = [&](std::vector<double>& to, const std::vector<double>& m) {
         for (auto row : f.rows) {
             const auto i = static_cast<std::size_t>(row);
-            const auto gi = pd::model::surface_axis_factors(at(m, i), 1.0, d,
-                                                            std::numeric_limits<double>::infinity());
+            const auto gi = pd::model::surface_axis_factors(
+                at(m, i), 1.0, d, std::numeric_limits<double>::infinity());
             for (std::size_t c = 0; c < 3; ++c)
                 to[3 * i + c] = std::clamp(to[3 * i + c] * gi[c], 0.25, 4.0);
         }
@@ -179,7 +180,8 @@ void expect_bitwise_reference(int d, double jitter, double angle) {
         angles[i] = angle;
     const FamilyRows f{offsets, neighbor, rows, x0, angles};
     const auto want = ref_factors(f, w, d, n);
-    const auto got = pd::model::surface_bond_factors(f, w, d, n, [](std::vector<double>&) {}, 1);
+    const auto got = pd::model::surface_bond_factors(
+        f, w, d, n, [](std::vector<double>&) {}, 1);
     ASSERT_EQ(got.size(), want.size());
     std::size_t not_one = 0;
     for (std::size_t k = 0; k < want.size(); ++k) {

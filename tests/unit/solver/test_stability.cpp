@@ -157,9 +157,11 @@ int expect_decided_stop_keeps_the_step(const std::string& text, bool initialize)
         return solver::round_step(solver::critical_dt(lambda), solver::step_digits);
     };
     EXPECT_EQ(step(fast.lambda()), step(full.lambda()));
-    EXPECT_EQ(step(fast.ritz), step(fast.lambda())); // decided, or stopped as before
+    if (fast.iterations < full.iterations) { // stopped early: the bracket was decided
+        EXPECT_EQ(step(fast.ritz), step(fast.lambda()));
+    }
     EXPECT_LE(fast.iterations, full.iterations);
-    EXPECT_LE(fast.ritz, full.ritz * (1 + 1e-12));     // the Ritz value only rises
+    EXPECT_LE(fast.ritz, full.ritz * (1 + 1e-12));         // the Ritz value only rises
     EXPECT_GE(fast.lambda(), full.lambda() * (1 - 1e-12)); // the upper end only falls
     EXPECT_EQ(s.stable_dt().pd, step(fast.lambda()));
     return full.iterations - fast.iterations;
