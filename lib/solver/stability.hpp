@@ -37,9 +37,12 @@ struct BondSpectrum {
 /// below 10 `tolerance` of it, or, with `step_digits` > 0, as soon as the time step is
 /// decided: the bracket [ritz, ritz + residual] of lambda_max gives steps 2 / sqrt(.) that
 /// round_step(., step_digits) takes to the same value (and the last step moved the Ritz value by
-/// less than its residual). Further steps raise the Ritz value and, once it has converged, lower
-/// ritz + residual: both stay in the bracket, so they round to the same step (issue 29 item 3:
-/// 23 -> 19 steps on the 1.03 M-node block, 20 -> 18 at 2.6e5 nodes, the same step).
+/// less than its residual). The step is then floor(2 / sqrt(lambda_max)) to those digits, at or
+/// below the limit under the assumption the old stop made too (the top Ritz value tracks the
+/// top eigenvalue). Further steps raise the Ritz value and, as measured, lower ritz + residual:
+/// both stay in the bracket and round to the same step (issue 29 item 3: 23 -> 19 steps on
+/// the 1.03 M-node block, 20 -> 18 at 2.6e5 nodes, the same step). Only a residual that grew
+/// again could have made the old stop return one unit of the last digit less.
 BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
                            int max_iterations = 80, double tolerance = 1e-4, int step_digits = 0);
 
