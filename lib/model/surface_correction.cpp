@@ -5,6 +5,9 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pd::model {
 
@@ -95,29 +98,172 @@ double surface_bond_factor(const double* n, const std::array<double, 3>& gi,
 
 namespace {
 
+/// The unit directions of row a's bonds (node i, turn t), 3 per bond into u: direction()'s
+/// operations, two bonds at a time in SSE2 lanes. The lanes round each difference, product,
+/// sum, square root and quotient as the scalar code does (IEEE, no FMA), so the same bits, for
+/// half the square roots and divisions issued (the divider bounds these passes).
+void row_directions(const FamilyRows& f, std::size_t a, Turn t, std::vector<double>& u) {
+    const auto i = static_cast<std::size_t>(f.rows[a]);
+    const auto k0 = static_cast<std::size_t>(f.offsets[a]);
+    const auto m = static_cast<std::size_t>(f.offsets[a + 1]) - k0;
+    u.resize(3 * m);
+    std::size_t b = 0;
+#if defined(__SSE2__)
+    const double* x = f.x0.data();
+    const __m128d xi[3] = {_mm_set1_pd(x[3 * i]), _mm_set1_pd(x[3 * i + 1]),
+                           _mm_set1_pd(x[3 * i + 2])};
+    const __m128d co = _mm_set1_pd(t.co), so = _mm_set1_pd(t.so), mso = _mm_set1_pd(-t.so);
+    for (; b + 1 < m; b += 2) {
+        const double* pa = x + 3 * static_cast<std::size_t>(f.neighbor[k0 + b]);
+        const double* pb = x + 3 * static_cast<std::size_t>(f.neighbor[k0 + b + 1]);
+        __m128d dx[3];
+        for (std::size_t c = 0; c < 3; ++c)
+            dx[c] = _mm_sub_pd(_mm_set_pd(pb[c], pa[c]), xi[c]);
+        // r2 = ((0 + dx0^2) + dx1^2) + dx2^2, as direction() sums it.
+        __m128d r2 = _mm_setzero_pd();
+        for (const auto& c : dx)
+            r2 = _mm_add_pd(r2, _mm_mul_pd(c, c));
+        const __m128d r = _mm_sqrt_pd(r2);
+        const __m128d n[3] = {
+            _mm_div_pd(_mm_add_pd(_mm_mul_pd(co, dx[0]), _mm_mul_pd(so, dx[1])), r),
+            _mm_div_pd(_mm_add_pd(_mm_mul_pd(mso, dx[0]), _mm_mul_pd(co, dx[1])), r),
+            _mm_div_pd(dx[2], r)};
+        for (std::size_t c = 0; c < 3; ++c) {
+            _mm_storel_pd(&u[3 * b + c], n[c]);
+            _mm_storeh_pd(&u[3 * b + 3 + c], n[c]);
+        }
+    }
+#endif
+    for (; b < m; ++b) // the odd last bond (every bond without SSE2)
+        direction(f, t, i, static_cast<std::size_t>(f.neighbor[k0 + b]), &u[3 * b]);
+}
+
+/// The bond factors G of row a's bonds (directions u from row_directions, node i's axis
+/// factors gi) into G: surface_bond_factor's operations, two bonds at a time in SSE2 lanes
+/// (the same bits, as row_directions).
+void row_factors(const FamilyRows& f, std::size_t a, const std::vector<double>& u,
+                 const std::array<double, 3>& gi, std::span<const double> g, int d, double* G) {
+    const auto k0 = static_cast<std::size_t>(f.offsets[a]);
+    const auto m = static_cast<std::size_t>(f.offsets[a + 1]) - k0;
+    const auto gj = [&](std::size_t b) {
+        const auto j = static_cast<std::size_t>(f.neighbor[k0 + b]);
+        return std::array<double, 3>{g[3 * j], g[3 * j + 1], g[3 * j + 2]};
+    };
+    std::size_t b = 0;
+#if defined(__SSE2__)
+    const __m128d half = _mm_set1_pd(0.5), one = _mm_set1_pd(1.0);
+    for (; b + 1 < m; b += 2) {
+        const auto ga = gj(b), gb = gj(b + 1);
+        __m128d s = _mm_setzero_pd();
+        for (int c = 0; c < d; ++c) {
+            const auto k = static_cast<std::size_t>(c);
+            const __m128d gm =
+                _mm_mul_pd(half, _mm_add_pd(_mm_set1_pd(gi[k]), _mm_set_pd(gb[k], ga[k])));
+            const __m128d n = _mm_set_pd(u[3 * b + 3 + k], u[3 * b + k]);
+            s = _mm_add_pd(s, _mm_div_pd(_mm_mul_pd(n, n), _mm_mul_pd(gm, gm)));
+        }
+        // s > 0 ? 1 / sqrt(s) : 1, lane by lane.
+        const __m128d pos = _mm_cmpgt_pd(s, _mm_setzero_pd());
+        const __m128d r = _mm_div_pd(one, _mm_sqrt_pd(s));
+        _mm_storeu_pd(G + b, _mm_or_pd(_mm_and_pd(pos, r), _mm_andnot_pd(pos, one)));
+    }
+#endif
+    for (; b < m; ++b)
+        G[b] = surface_bond_factor(&u[3 * b], gi, gj(b), d);
+}
+
+/// pow4 of the values its fast check does not take (they go to std::pow, ~1 in 10 of the
+/// components, ~20 ns each), remembered by their bits: a grid's bond directions take a few
+/// thousand distinct values, repeated over every row. The same bits as pow4 by construction.
+class Pow4Memo {
+  public:
+    double operator()(double u) {
+        const auto bits = std::bit_cast<std::uint64_t>(u);
+        auto& e = slots_[(bits * 0x9e3779b97f4a7c15ULL) >> (64 - log2_slots)];
+        if (e.key != bits || !e.used) {
+            e = {bits, pow4(u), true};
+        }
+        return e.value;
+    }
+
+  private:
+    static constexpr int log2_slots = 14;
+    struct Slot {
+        std::uint64_t key = 0;
+        double value = 0;
+        bool used = false;
+    };
+    std::vector<Slot> slots_ = std::vector<Slot>(std::size_t{1} << log2_slots);
+};
+
+/// p[k] = pow4(u[k]) for k < count: pow4's operations two values at a time in SSE2 lanes (the
+/// same bits); a lane its check does not pass goes through pow4 itself (std::pow, or 0), by way
+/// of the memo.
+void pow4_into(const double* u, double* p, std::size_t count, Pow4Memo& memo) {
+    std::size_t k = 0;
+#if defined(__SSE2__)
+    const __m128d split = _mm_set1_pd(134217729.0), two = _mm_set1_pd(2.0);
+    const __m128d expo = _mm_castsi128_pd(_mm_set1_epi64x(0x7ff0000000000000LL));
+    const __m128d abs = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+    const __m128d tiny = _mm_set1_pd(0x1p-800), ulp52 = _mm_set1_pd(0x1p-52),
+                  tol = _mm_set1_pd(0.45);
+    // two_square's operations on two lanes.
+    const auto square = [&](__m128d a, __m128d& q, __m128d& e) {
+        q = _mm_mul_pd(a, a);
+        const __m128d t = _mm_mul_pd(split, a);
+        const __m128d hi = _mm_sub_pd(t, _mm_sub_pd(t, a)), lo = _mm_sub_pd(a, hi);
+        e = _mm_add_pd(
+            _mm_add_pd(_mm_sub_pd(_mm_mul_pd(hi, hi), q), _mm_mul_pd(_mm_mul_pd(two, hi), lo)),
+            _mm_mul_pd(lo, lo));
+    };
+    for (; k + 1 < count; k += 2) {
+        const __m128d v = _mm_loadu_pd(u + k);
+        __m128d s, e, hi, r1;
+        square(v, s, e);
+        square(s, hi, r1);
+        const __m128d lo = _mm_add_pd(r1, _mm_mul_pd(_mm_mul_pd(two, s), e));
+        const __m128d r = _mm_add_pd(hi, lo);
+        const __m128d d = _mm_sub_pd(lo, _mm_sub_pd(r, hi));
+        const __m128d pow2 = _mm_and_pd(r, expo); // r without its mantissa (r >= 0)
+        const __m128d ok =
+            _mm_and_pd(_mm_and_pd(_mm_cmpge_pd(r, tiny), _mm_cmpneq_pd(r, pow2)),
+                       _mm_cmple_pd(_mm_and_pd(d, abs), _mm_mul_pd(tol, _mm_mul_pd(pow2, ulp52))));
+        _mm_storeu_pd(p + k, r);
+        const int m = _mm_movemask_pd(ok);
+        if (!(m & 1))
+            p[k] = memo(u[k]);
+        if (!(m & 2))
+            p[k + 1] = memo(u[k + 1]);
+    }
+#endif
+    for (; k < count; ++k)
+        p[k] = memo(u[k]);
+}
+
 /// family_axis_moments with bond k's weight scaled by its factor G_k for the axis factors g (3 per
 /// node; empty: unscaled): the same products G_k w_k and sums in the same order as building the
-/// array G w first, without the two per-bond arrays and with one direction per bond.
+/// array G w first, without the two per-bond arrays. The directions of a row are computed once
+/// into a row-sized scratch array and shared by the factors and the moments.
 std::vector<double> scaled_axis_moments(const FamilyRows& f, std::span<const double> weight,
                                         std::span<const double> g, int d, std::size_t n) {
-    std::vector<double> out(3 * n, 0.0);
+    std::vector<double> out(3 * n, 0.0), u, G, p;
+    Pow4Memo memo;
     for (std::size_t a = 0; a < f.rows.size(); ++a) {
         const auto i = static_cast<std::size_t>(f.rows[a]);
-        const Turn t = row_turn(f, i);
-        std::array<double, 3> gi{1, 1, 1};
-        if (!g.empty())
-            gi = {g[3 * i], g[3 * i + 1], g[3 * i + 2]};
-        for (auto k = f.offsets[a]; k < f.offsets[a + 1]; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            const auto j = static_cast<std::size_t>(f.neighbor[kk]);
-            double u[3];
-            direction(f, t, i, j, u);
-            const double w =
-                g.empty() ? weight[kk]
-                          : surface_bond_factor(u, gi, {g[3 * j], g[3 * j + 1], g[3 * j + 2]}, d) *
-                                weight[kk];
+        const auto k0 = static_cast<std::size_t>(f.offsets[a]);
+        const auto m = static_cast<std::size_t>(f.offsets[a + 1]) - k0;
+        row_directions(f, a, row_turn(f, i), u);
+        if (!g.empty()) {
+            G.resize(m);
+            row_factors(f, a, u, {g[3 * i], g[3 * i + 1], g[3 * i + 2]}, g, d, G.data());
+        }
+        p.resize(3 * m);
+        pow4_into(u.data(), p.data(), 3 * m, memo);
+        for (std::size_t b = 0; b < m; ++b) {
+            const double w = g.empty() ? weight[k0 + b] : G[b] * weight[k0 + b];
             for (int c = 0; c < d; ++c)
-                out[3 * i + static_cast<std::size_t>(c)] += w * pow4(u[c]);
+                out[3 * i + static_cast<std::size_t>(c)] +=
+                    w * p[3 * b + static_cast<std::size_t>(c)];
         }
     }
     return out;
@@ -134,17 +280,12 @@ namespace {
 /// The bond factors of g into out (one per bond).
 void bond_factors_into(const FamilyRows& f, std::span<const double> g, int d,
                        std::span<double> out) {
+    std::vector<double> u;
     for (std::size_t a = 0; a < f.rows.size(); ++a) {
         const auto i = static_cast<std::size_t>(f.rows[a]);
-        const std::array<double, 3> gi{g[3 * i], g[3 * i + 1], g[3 * i + 2]};
-        const Turn t = row_turn(f, i);
-        for (auto k = f.offsets[a]; k < f.offsets[a + 1]; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            const auto j = static_cast<std::size_t>(f.neighbor[kk]);
-            double u[3];
-            direction(f, t, i, j, u);
-            out[kk] = surface_bond_factor(u, gi, {g[3 * j], g[3 * j + 1], g[3 * j + 2]}, d);
-        }
+        row_directions(f, a, row_turn(f, i), u);
+        row_factors(f, a, u, {g[3 * i], g[3 * i + 1], g[3 * i + 2]}, g, d,
+                    out.data() + f.offsets[a]);
     }
 }
 } // namespace

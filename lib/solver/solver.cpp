@@ -6,6 +6,7 @@
 #include "core/errors.hpp"
 #include "solver/bond_forces.hpp"
 #include "solver/detail.hpp"
+#include "solver/stability.hpp"
 
 #include <cmath>
 #include <limits>
@@ -102,10 +103,7 @@ StableDt Solver::stable_dt() const {
         t->limit_dt(f_, r);
     // The Lanczos value to three significant digits, rounded down: its sums differ in their
     // last bits between rank counts, the step must not (the contact bound is exact everywhere).
-    if (std::isfinite(r.pd) && r.pd > 0) {
-        const double unit = std::pow(10.0, std::floor(std::log10(r.pd)) - 2);
-        r.pd = std::floor(r.pd / unit * (1 + 1e-9)) * unit;
-    }
+    r.pd = round_step(r.pd, step_digits);
     r.limit = std::min(r.pd, r.contact);
     r.governing = r.contact < r.pd         ? "contact stiffness"
                   : r.limit < 0.995 * r.pd ? "bonds with contact"

@@ -176,52 +176,55 @@ class BondOperator {
             f[2] += t * e[2];
         }
     }
-    /// The force density f of the PMB row a (node i of `body`): row_force's operations on each
-    /// bond (dir, proj, pair_stiffness), two bonds at a time in SSE2 lanes. Lanes round square
-    /// roots, divisions and products as the scalar code does, and the sums into f run bond by
-    /// bond in the same order, so the same bits, for half the square roots and divisions issued
-    /// (the divider bounds this loop).
+    /// The force density f of the PMB row a (node i of `body`): per bond kb (d . dw) d / |d|^2
+    /// with d = x_j - x_i, row_force's kb (e . dw) e without the unit vector e = d / |d| (one
+    /// division per bond instead of a square root and three), two bonds at a time in SSE2 lanes.
+    /// The same operator to rounding; its last bits differ from row_force's, as the sums of
+    /// different rank counts do, and the step is rounded to 3 digits once Lanczos has decided
+    /// it (bond_spectrum).
     void pmb_row_force(std::size_t a, std::size_t i, std::size_t body, double f[3]) const {
         auto k = b_.offsets[a];
         const auto end = b_.offsets[a + 1];
-#if defined(__SSE2__)
-        using V = __m128d;
         const double* X = s_.x.data();
         const double* w = w_.data();
+#if defined(__SSE2__)
+        using V = __m128d;
         const V xi[3] = {_mm_set1_pd(X[3 * i]), _mm_set1_pd(X[3 * i + 1]),
                          _mm_set1_pd(X[3 * i + 2])};
         const V wi[3] = {_mm_set1_pd(w[3 * i]), _mm_set1_pd(w[3 * i + 1]),
                          _mm_set1_pd(w[3 * i + 2])};
+        V acc[3] = {_mm_setzero_pd(), _mm_setzero_pd(), _mm_setzero_pd()};
         for (; k + 1 < end; k += 2) {
             const auto ka = static_cast<std::size_t>(k);
             const index_t ja = b_.neighbor[ka], jb = b_.neighbor[ka + 1];
             V d[3], dw[3];
             kernels::gather2(X, ja, jb, xi, d);
             kernels::gather2(w, ja, jb, wi, dw);
-            const V l = kernels::length(d);
-            for (auto& c : d)
-                c = _mm_div_pd(c, l);
-            const V de = _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], dw[0]), _mm_mul_pd(d[1], dw[1])),
+            const V l2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], d[0]), _mm_mul_pd(d[1], d[1])),
+                                    _mm_mul_pd(d[2], d[2]));
+            const V dd = _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], dw[0]), _mm_mul_pd(d[1], dw[1])),
                                     _mm_mul_pd(d[2], dw[2]));
-            const V t =
-                _mm_mul_pd(_mm_set_pd(pmb_stiffness(ka + 1, static_cast<std::size_t>(jb), body),
-                                      pmb_stiffness(ka, static_cast<std::size_t>(ja), body)),
-                           de);
-            for (int c = 0; c < 3; ++c) {
-                const V te = _mm_mul_pd(t, d[c]);
-                f[c] += kernels::lane0(te);
-                f[c] += kernels::lane1(te);
-            }
+            const V kb = _mm_set_pd(pmb_stiffness(ka + 1, static_cast<std::size_t>(jb), body),
+                                    pmb_stiffness(ka, static_cast<std::size_t>(ja), body));
+            const V t = _mm_div_pd(_mm_mul_pd(kb, dd), l2);
+            for (int c = 0; c < 3; ++c)
+                acc[c] = _mm_add_pd(acc[c], _mm_mul_pd(t, d[c]));
         }
+        for (int c = 0; c < 3; ++c)
+            f[c] += kernels::lane0(acc[c]) + kernels::lane1(acc[c]);
 #endif
         for (; k < end; ++k) { // the odd last bond (every bond without SSE2)
             const auto kk = static_cast<std::size_t>(k);
             const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
-            double e[3], l;
-            dir(i, j, e, l);
-            const double t = pmb_stiffness(kk, j, body) * proj(i, j, e);
+            double d[3], l2 = 0, dd = 0;
+            for (std::size_t c = 0; c < 3; ++c) {
+                d[c] = X[3 * j + c] - X[3 * i + c];
+                l2 += d[c] * d[c];
+                dd += d[c] * (w[3 * j + c] - w[3 * i + c]);
+            }
+            const double t = pmb_stiffness(kk, j, body) * dd / l2;
             for (std::size_t c = 0; c < 3; ++c)
-                f[c] += t * e[c];
+                f[c] += t * d[c];
         }
     }
     /// A PMB bond's stiffness: pair_stiffness(...) = pmb_stiffness(...) de.
@@ -285,8 +288,15 @@ class BondOperator {
 
 } // namespace
 
+double round_step(double dt, int digits) {
+    if (!std::isfinite(dt) || !(dt > 0))
+        return dt;
+    const double unit = std::pow(10.0, std::floor(std::log10(dt)) - (digits - 1));
+    return std::floor(dt / unit * (1 + 1e-9)) * unit;
+}
+
 BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
-                           int max_iterations, double tolerance) {
+                           int max_iterations, double tolerance, int step_digits) {
     BondSpectrum r;
     BondOperator A(s, b, law, dom);
     const std::size_t n3 = 3 * s.n;
@@ -342,9 +352,13 @@ BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law
         beta.push_back(be);
         // Converged: the top Ritz value is steady and its residual small.
         settled = std::abs(r.ritz - last) <= tolerance * r.ritz ? settled + 1 : 0;
+        // The step decided: both ends of lambda_max's bracket round to the same step.
+        const bool decided = step_digits > 0 && it > 0 && std::abs(r.ritz - last) <= r.residual &&
+                             round_step(critical_dt(r.ritz), step_digits) ==
+                                 round_step(critical_dt(r.lambda()), step_digits);
         last = r.ritz;
         if (!(be > 1e-14 * std::abs(r.ritz)) ||
-            (settled >= 3 && r.residual <= 10 * tolerance * r.ritz))
+            (settled >= 3 && r.residual <= 10 * tolerance * r.ritz) || decided)
             break;
         q_prev.swap(q);
         for (auto row : s.rows) {

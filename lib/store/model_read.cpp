@@ -548,41 +548,4 @@ model::Model read_model(const h5::File& f, bool neighbors) {
     return m;
 }
 
-namespace detail {
-
-/// Each bond once in each direction: a row holds no node twice and not its own node, and j in
-/// the row of i means i in the row of j. An asymmetric or duplicated bond breaks Newton's third
-/// law (the momentum drifts) or counts one pair twice; pd-pack never writes either.
-void check_bond_pairs(const h5::File& f, const std::vector<std::int64_t>& offsets,
-                      const std::vector<std::int32_t>& neighbor) {
-    const std::string p = std::string(path::bonds) + "/neighbor";
-    std::vector<std::int32_t> sorted(neighbor.begin(), neighbor.end());
-    const std::size_t n = offsets.size() - 1;
-    auto row = [&](std::size_t i) {
-        return std::pair{sorted.begin() + offsets[i], sorted.begin() + offsets[i + 1]};
-    };
-    for (std::size_t i = 0; i < n; ++i) {
-        auto [lo, hi] = row(i);
-        std::sort(lo, hi);
-        if (const auto d = std::adjacent_find(lo, hi); d != hi)
-            throw SchemaError(
-                f.name(), p, fmt::format("node {} lists node {} twice (a duplicated bond)", i, *d));
-        if (std::binary_search(lo, hi, static_cast<std::int32_t>(i)))
-            throw SchemaError(f.name(), p, fmt::format("node {} is bonded to itself", i));
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        const auto [lo, hi] = row(i);
-        for (auto it = lo; it != hi; ++it) {
-            const auto [jl, jh] = row(static_cast<std::size_t>(*it));
-            if (!std::binary_search(jl, jh, static_cast<std::int32_t>(i)))
-                throw SchemaError(f.name(), p,
-                                  fmt::format("node {} is bonded to node {}, but node {} not to "
-                                              "node {} (an asymmetric bond)",
-                                              i, *it, *it, i));
-        }
-    }
-}
-
-} // namespace detail
-
 } // namespace pd::store

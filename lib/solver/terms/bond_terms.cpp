@@ -8,7 +8,8 @@ namespace pd::solver {
 void BondTerm::limit_dt(const Forces& f, StableDt& dt) const {
     if (dt.lanczos_steps > 0)
         return;
-    const auto spec = bond_spectrum(f.s, f.b, f.law, *f.dom);
+    // Lanczos stops once the step, rounded as Solver::stable_dt rounds it, is decided.
+    const auto spec = bond_spectrum(f.s, f.b, f.law, *f.dom, 80, 1e-4, step_digits);
     dt.pd = critical_dt(spec.lambda());
     dt.lanczos_steps = spec.iterations;
 }

@@ -140,4 +140,55 @@ TEST(Stability, VerletBoundedBelowTheEstimateAndUnstableAbove) {
     EXPECT_GT(growth(1.05, 3000), 1e6);
 }
 
+/// Lanczos with the step-decided stop (pd-solve's) against the same without it (the steady Ritz
+/// value and small residual alone): the same rounded step, never more steps, and the early
+/// stop's bracket inside the converged one's.
+int expect_decided_stop_keeps_the_step(const std::string& text, bool initialize) {
+    auto m = pipeline::build_scene(text, "t", quiet);
+    solver::Solver s(m);
+    s.set_dt(1e-9);
+    if (initialize)
+        s.initialize();
+    solver::Domain dom(s.state().n);
+    const auto full = solver::bond_spectrum(s.state(), s.bonds(), s.bond_law(), dom, 80, 1e-4, 0);
+    const auto fast = solver::bond_spectrum(s.state(), s.bonds(), s.bond_law(), dom, 80, 1e-4,
+                                            solver::step_digits);
+    const auto step = [](double lambda) {
+        return solver::round_step(solver::critical_dt(lambda), solver::step_digits);
+    };
+    EXPECT_EQ(step(fast.lambda()), step(full.lambda()));
+    if (fast.iterations < full.iterations) { // stopped early: the bracket was decided
+        EXPECT_EQ(step(fast.ritz), step(fast.lambda()));
+    }
+    EXPECT_LE(fast.iterations, full.iterations);
+    EXPECT_LE(fast.ritz, full.ritz * (1 + 1e-12));         // the Ritz value only rises
+    EXPECT_GE(fast.lambda(), full.lambda() * (1 - 1e-12)); // the upper end only falls
+    EXPECT_EQ(s.stable_dt().pd, step(fast.lambda()));
+    return full.iterations - fast.iterations;
+}
+
+std::string block3d(const std::string& law) {
+    return R"({"dimension": 3,
+      "materials": {"m1": {"law": ")" +
+           law + R"(", "density": 2440, "youngs_modulus": 72e9)" +
+           (law == "lps" ? R"(, "poisson_ratio": 0.22)" : "") + R"(}},
+      "discretization": {"mesh_size": 1e-3, "horizon_factor": 3},
+      "shapes": {"b": {"type": "box", "size": [0.013, 0.011, 0.009], "mesh": "grid"}},
+      "particles": [{"shape": "b", "center": [0, 0, 0], "material": "m1"}],
+      "solver": {"final_time": 1e-3}, "title": "t"})";
+}
+
+// Issue 29 item 3: the step-decided stop of the Lanczos estimate keeps the step of the steady
+// stop on 2D and 3D, PMB and LPS, intact and pre-cracked, and saves steps on some of them.
+TEST(Stability, DecidedStopKeepsTheRoundedStep) {
+    int saved = 0;
+    saved += expect_decided_stop_keeps_the_step(grain("pmb"), false);
+    saved += expect_decided_stop_keeps_the_step(grain("lps"), false);
+    saved += expect_decided_stop_keeps_the_step(
+        grain("lps", R"("cracks": [{"from": [-1e-3, 5.1e-4], "to": [7e-4, 5.1e-4]}],)"), true);
+    saved += expect_decided_stop_keeps_the_step(block3d("pmb"), false);
+    saved += expect_decided_stop_keeps_the_step(block3d("lps"), false);
+    EXPECT_GT(saved, 0);
+}
+
 } // namespace
