@@ -105,6 +105,8 @@ class ContactList {
     void invalidate() {
         built_ = false;
         touched_known_ = false; // rows may have changed ranks: no history (surface_row)
+        touched_.clear();       // nor held pairs (remember_depths would carry them)
+        held_count_ = 0;
     }
     /// The surface law's depth history (surface_history.cpp) for a checkpoint: the owned nodes'
     /// (node, body) pairs and depths of the last evaluation and its time; time < 0 when none is
