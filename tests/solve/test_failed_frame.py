@@ -91,6 +91,23 @@ def test_surface_law_breach_says_so_and_names_its_bound(tmp_path):
     assert '"law": "node", "radius_mesh_factor": 3' in msg and "Refine the mesh" in msg, msg
 
 
+def test_surface_law_wall_breach_advises_no_factor(tmp_path):
+    """A node through a rigid wall on the surface law: the message names what the law can do
+    (its pressure at h/2, kappa / 2 h, grows as 1 / h; the stiffness follows the speeds up to
+    the wave speed), not a stiffness factor it has none of. A soft disc (E = 100 kPa, wave speed
+    9.1 m/s) at 50 m/s goes through the floor within 10 steps."""
+    s = scene()
+    del s["contact"]
+    s["materials"]["m1"]["youngs_modulus"] = 1e5
+    s["particles"] = [{"radius": 1e-3, "center": [0, 1.2e-3], "material": "m1",
+                       "velocity": [0, -50]}]
+    s["walls"] = [{"type": "plane", "point": [0, 0], "normal": [0, 1]}]
+    _, msg = stopped(tmp_path, "wall", s)
+    assert "nodes pass through a rigid wall" in msg, msg
+    assert "surface law's pressure at h/2 behind the wall" in msg and "refine the mesh" in msg, msg
+    assert "stiffness_factor" not in msg, msg
+
+
 def test_penetration_warn_runs_on_as_peridem_decks_do(tmp_path):
     """solver.penetration "warn" (what pd-pack --from-peridem writes: PeriDEM has no such guard and
     runs its decks through the tunnelling R_c = 0.95 h allows; e.g. its drum deck

@@ -451,17 +451,30 @@ void Guards::beyond_wall(Run& r, std::int64_t n) {
     const auto& o = r.last_obs;
     if (o.beyond_wall <= 0 || warned_)
         return;
+    // The advice follows the law of the walls' pairs (the same on every rank): the surface law
+    // has no factor to raise, its stiffness follows the materials, the mesh and the speeds.
+    bool node_law = false;
+    for (const auto& p : r.m.contact)
+        for (const auto& w : r.m.walls)
+            if ((p.group_a == w.group || p.group_b == w.group) && p.law == model::ContactLaw::node)
+                node_law = true;
+    const char* advice =
+        node_law ? "The wall contact is too soft for this impact (raise "
+                   "contact.stiffness_factor, lower the speed)"
+                 : "The surface law's pressure at h/2 behind the wall (kappa / 2 h) did not "
+                   "hold this impact: refine the mesh (that pressure grows as 1 / h) or lower "
+                   "the speed (the automatic stiffness follows the scene's speeds up to the "
+                   "grains' wave speed)";
     breach(r, n, "node beyond a wall",
            fmt::format("{}: nodes pass through a rigid wall at step {} (t = {:.6g} s): {} "
-                       "node(s) more than h/2 beyond a wall's surface{}. The wall contact is "
-                       "too soft for this impact (raise contact.stiffness_factor, lower the "
-                       "speed)",
+                       "node(s) more than h/2 beyond a wall's surface{}. {}",
                        r.opt.file, n, r.s.state().time, o.beyond_wall,
                        o.beyond_node >= 0
                            ? fmt::format(" (node {} of body {}, wall {})", o.beyond_node,
                                          r.s.state().body[static_cast<std::size_t>(o.beyond_node)],
                                          o.beyond_wall_index)
-                           : std::string{}),
+                           : std::string{},
+                       advice),
            "; the state at this step is the last frame (flagged), the frames before stay in "
            "the file (--no-penetration-check runs on)");
 }
