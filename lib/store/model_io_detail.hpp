@@ -4,6 +4,7 @@
 
 #include "core/errors.hpp"
 #include "h5/file.hpp"
+#include "model/model.hpp"
 #include "store/schema.hpp"
 
 #include <cmath>
