@@ -31,7 +31,11 @@ struct Rows {
 
 /// "" when the list passes, else the error's text.
 std::string check(const Rows& r) {
-    const auto path = std::filesystem::temp_directory_path() / "pd_test_bond_pairs.h5";
+    // One file per test: ctest runs this binary's tests as parallel processes, and a shared
+    // name made one of them find the other's file locked (a clean-clone CI run failed so).
+    const auto path = std::filesystem::temp_directory_path() /
+                      (std::string("pd_test_bond_pairs_") +
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".h5");
     std::string what;
     {
         h5::File f(path.string(), h5::Mode::create_truncate);
