@@ -111,7 +111,10 @@ void verify_packed(const std::string& tmp, const std::string& output) {
 /// Writes the packed model under a temporary name and renames it into place: a failed write
 /// (full disk) leaves any previous output as it was. The temporary file is created exclusively
 /// (never through a link planted under its name).
-void write_packed(const model::Model& m, const std::string& output, Context& ctx) {
+/// Writes `m` (taken, and freed once written: the check reads the file back into a model of the
+/// same size, so holding both would double pd-pack's peak) to a temporary file, checks it as
+/// pd-solve will read it, and renames it to `output`.
+void write_packed(model::Model m, const std::string& output, Context& ctx) {
     const std::string tmp = fmt::format("{}.tmp.{}", output, ::getpid());
     const int fd = create_side_file(tmp);
     if (fd < 0)
@@ -135,6 +138,7 @@ void write_packed(const model::Model& m, const std::string& output, Context& ctx
             }
             reserve.release();
         }
+        m = model::Model{};
         verify_packed(tmp, output);
         std::filesystem::rename(tmp, output);
     } catch (...) {
@@ -239,9 +243,11 @@ void pack(const PackOptions& opt, Context& ctx) {
         ctx.log.info("wrote the scene {}", opt.write_scene);
     }
 
-    write_packed(m, opt.output, ctx);
-    ctx.log.info("wrote {}: {} bodies, {} walls, {} nodes, {} bonds, {} materials", opt.output,
-                 m.bodies.num(), m.walls.size(), m.nodes.num(), m.bonds.num(), m.materials.size());
+    const auto summary =
+        fmt::format("{} bodies, {} walls, {} nodes, {} bonds, {} materials", m.bodies.num(),
+                    m.walls.size(), m.nodes.num(), m.bonds.num(), m.materials.size());
+    write_packed(std::move(m), opt.output, ctx);
+    ctx.log.info("wrote {}: {}", opt.output, summary);
     if (!opt.preview.empty()) {
         const auto cmd = fmt::format("/usr/bin/python3 {} {} -o {}", quote(preview_script()),
                                      quote(opt.output), quote(opt.preview));
