@@ -29,7 +29,7 @@ f = pdgrain.pack(scene, out / "two_discs.h5", overwrite=True)
 with pdgrain.Simulation(f, threads=1, overwrite=True) as sim:
     v, body = sim.velocities, sim.body  # views: they follow the run
     print("%d nodes, dt = %.3e s, %d steps" % (sim.num_nodes, sim.dt, sim.last_step))
-    while sim.step_index < min(400, sim.last_step):
+    while sim.step_index < sim.last_step and sim.time < 3.5e-4:  # into the impact (0.3 ms)
         sim.step(100)
         print("step %4d  t = %.3e s  mean vx: left %+.4f  right %+.4f m/s" % (
             sim.step_index, sim.time, v[body == 0, 0].mean(), v[body == 1, 0].mean()))

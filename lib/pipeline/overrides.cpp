@@ -151,9 +151,23 @@ Resolved apply_overrides(const std::string& text, const std::string& source,
 
 namespace {
 
-/// A key not filled while one of these is present (it would replace or contradict them).
+/// Whether a contact table selects the node law as pd-pack reads it (contact.cpp choose_law): it
+/// names it, or gives a radius or a numeric stiffness; else the default law, the surface law.
+bool node_law(const json& obj) {
+    auto has = [&](const char* k) { return obj.contains(k); };
+    if (has("law"))
+        return obj["law"] == "node";
+    return has("radius") || has("radius_factor") || has("radius_mesh_factor") ||
+           (has("stiffness") && obj["stiffness"].is_number());
+}
+
+/// A key not filled while one of these is present (it would replace or contradict them). The
+/// node law's keys (radius_factor, approach_damping) are not filled in a contact table on the
+/// surface law: they would select the node law, or be refused by it.
 bool replaced(const json& obj, const std::string& key) {
     auto has = [&](const char* k) { return obj.contains(k); };
+    if ((key == "radius_factor" || key == "approach_damping") && !node_law(obj))
+        return true;
     if (key == "radius_factor")
         return has("radius") || has("radius_mesh_factor");
     if (key == "fracture_energy")

@@ -116,6 +116,6 @@ def two_discs():
             .discretization(mesh_size=1.0e-4, horizon_factor=3)
             .disc(1.0e-3, [-1.15e-3, 0], "m1", velocity=[0.5, 0])
             .disc(1.0e-3, [1.15e-3, 0], "m1", velocity=[-0.5, 0], orientation=0.5)
-            .contact(radius_factor=0.95, stiffness="auto")
+            .contact(stiffness="auto")
             .gravity([0, 0])
             .solver(final_time=6.0e-4, dt="auto", output_interval=2.0e-5))

@@ -126,9 +126,10 @@ def test_damped_drop_matches_peridem_table2(pd_pack, shared_dir, tmp_path, eps):
 
 
 @pytest.mark.parametrize("sets, message", [
-    (["contact.approach_damping=1"], "2D only"),
+    (["contact.law=node", "contact.approach_damping=1"], "2D only"),
     (['contact={"law": "surface", "approach_damping": 1}'], "node law"),
-    (["contact.approach_damping=-1"], "must be in [0, 1e30)"),
+    (["contact.approach_damping=1"], "node law"),  # the default law of a scene naming none
+    (["contact.law=node", "contact.approach_damping=-1"], "must be in [0, 1e30)"),
 ])
 def test_refused_outside_the_2d_node_law(pd_pack, tmp_path, sets, message):
     scene = REPO / "examples" / ("two_spheres_3d" if "2D" in message else "two_discs") / "scene.json"

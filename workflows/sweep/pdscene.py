@@ -10,7 +10,7 @@ for h5py. No compiled extension: the tools do the work.
     s.material("m1", law="pmb", density=1200, youngs_modulus=3.24e7, fracture_energy=50)
     s.discretization(mesh_size=1e-4, horizon_factor=3)
     s.disc(radius=1e-3, center=[-1.15e-3, 0], material="m1", velocity=[0.5, 0])
-    s.contact(radius_factor=0.95, stiffness="auto")
+    s.contact(stiffness="auto")                 # the default (surface) law
     s.solver(final_time=6e-4, dt="auto", output_interval=2e-5)
     h5 = s.run("out/two_discs")          # pd-pack, pd-solve (and pd-post with post=True)
 
