@@ -91,17 +91,27 @@ def test_surface_law_breach_says_so_and_names_its_bound(tmp_path):
     assert '"law": "node", "radius_mesh_factor": 3' in msg and "Refine the mesh" in msg, msg
 
 
-def test_surface_law_wall_breach_advises_no_factor(tmp_path):
+@pytest.mark.parametrize("off_pair", [False, True])
+def test_surface_law_wall_breach_advises_no_factor(tmp_path, off_pair):
     """A node through a rigid wall on the surface law: the message names what the law can do
     (its pressure at h/2, kappa / 2 h, grows as 1 / h; the stiffness follows the speeds up to
     the wave speed), not a stiffness factor it has none of. A soft disc (E = 100 kPa, wave speed
-    9.1 m/s) at 50 m/s goes through the floor within 10 steps."""
+    9.1 m/s) at 50 m/s goes through the floor within 10 steps. With off_pair, another grain's
+    group and the wall's are switched off (stiffness 0, as attrition_sim1's drum and protrusion:
+    pd-pack records such a pair as a node-law one): the advice still follows the breaching
+    node's pair, not that one (it advised a stiffness factor)."""
     s = scene()
     del s["contact"]
     s["materials"]["m1"]["youngs_modulus"] = 1e5
     s["particles"] = [{"radius": 1e-3, "center": [0, 1.2e-3], "material": "m1",
                        "velocity": [0, -50]}]
     s["walls"] = [{"type": "plane", "point": [0, 0], "normal": [0, 1]}]
+    if off_pair:
+        s["particles"][0]["group"] = 0
+        s["particles"].append({"radius": 1e-3, "center": [5e-3, 1.2e-3], "material": "m1",
+                               "group": 2})
+        s["walls"][0]["group"] = 1
+        s["contact"] = {"pairs": [{"groups": [2, 1], "stiffness": 0}]}
     _, msg = stopped(tmp_path, "wall", s)
     assert "nodes pass through a rigid wall" in msg, msg
     assert "surface law's pressure at h/2 behind the wall" in msg and "refine the mesh" in msg, msg

@@ -451,13 +451,31 @@ void Guards::beyond_wall(Run& r, std::int64_t n) {
     const auto& o = r.last_obs;
     if (o.beyond_wall <= 0 || warned_)
         return;
-    // The advice follows the law of the walls' pairs (the same on every rank): the surface law
-    // has no factor to raise, its stiffness follows the materials, the mesh and the speeds.
+    // The advice follows the law of the walls' acting pairs (the same on every rank): the surface
+    // law has no factor to raise, its stiffness follows the materials, the mesh and the speeds.
+    // The pair of the node named and its wall decides where known; a pair switched off
+    // (stiffness 0, e.g. a drum that does not act on its own protrusion) never does.
+    auto node_pair = [&](std::int32_t body_group, std::int32_t wall_group) {
+        bool node = false;
+        for (const auto& p : r.m.contact) {
+            const bool walls = p.group_a == wall_group || p.group_b == wall_group;
+            const bool grain = body_group < 0 || p.group_a == body_group || p.group_b == body_group;
+            if (walls && grain && p.stiffness > 0 && p.law == model::ContactLaw::node)
+                node = true;
+        }
+        return node;
+    };
     bool node_law = false;
-    for (const auto& p : r.m.contact)
+    if (o.beyond_node >= 0 && o.beyond_wall_index >= 0 &&
+        static_cast<std::size_t>(o.beyond_wall_index) < r.m.walls.size()) {
+        const auto b =
+            static_cast<std::size_t>(r.s.state().body[static_cast<std::size_t>(o.beyond_node)]);
+        node_law = node_pair(r.m.bodies.group[b],
+                             r.m.walls[static_cast<std::size_t>(o.beyond_wall_index)].group);
+    } else {
         for (const auto& w : r.m.walls)
-            if ((p.group_a == w.group || p.group_b == w.group) && p.law == model::ContactLaw::node)
-                node_law = true;
+            node_law = node_law || node_pair(-1, w.group);
+    }
     const char* advice =
         node_law ? "The wall contact is too soft for this impact (raise "
                    "contact.stiffness_factor, lower the speed)"
