@@ -7,13 +7,16 @@
 // velocity Verlet must actually stay bounded just below it and blow up just above.
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
+#include "solver/bond_forces.hpp"
 #include "solver/solver.hpp"
 #include "solver/stability.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace {
@@ -245,3 +248,35 @@ TEST(Stability, CompactCoefficientsKeepTheStep) {
     expect_compact_keeps_the_step(block3d("lps"), false); // no PMB row: the same operator
 }
 
+// damage_phi's skip of rows with no broken bond (issue 29 item 3) against the formula over every
+// row: sum of the broken bonds' beta V_j over all of them, on a pre-cracked PMB grain.
+TEST(Damage, RowsWithoutBrokenBondsMatchTheFormula) {
+    auto m = pipeline::build_scene(
+        grain("pmb", R"("cracks": [{"from": [-1e-3, 5.1e-4], "to": [7e-4, 5.1e-4]}],)"), "t",
+        quiet);
+    solver::Solver s(m);
+    s.set_dt(1e-9);
+    s.initialize();
+    std::vector<double> phi;
+    s.damage(phi);
+    const auto& st = s.state();
+    const auto& b = s.bonds();
+    int cracked = 0;
+    for (std::size_t a = 0; a < st.rows.size(); ++a) {
+        const auto i = static_cast<std::size_t>(st.rows[a]);
+        const auto body = static_cast<std::size_t>(st.body[i]);
+        double all = 0, br = 0;
+        for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const double w = solver::bond_beta(b, s.bond_law(), body, kk) *
+                             st.vol[static_cast<std::size_t>(b.neighbor[kk])];
+            all += w;
+            br += b.alive[kk] ? 0.0 : w;
+        }
+        const double ref = all > 0 ? br / all : 0.0;
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(phi[i]), std::bit_cast<std::uint64_t>(ref));
+        cracked += br > 0 ? 1 : 0;
+    }
+    EXPECT_GT(cracked, 0);
+    EXPECT_LT(cracked, static_cast<int>(st.rows.size()));
+}
