@@ -16,14 +16,6 @@
 
 namespace pd::solver::detail {
 
-// |X_j - X_i|, computed the same way wherever a bond's length is needed (bitwise equal).
-double bond_length(const std::vector<double>& x0, std::size_t i, std::size_t j) {
-    double r2 = 0;
-    for (std::size_t d = 0; d < 3; ++d)
-        r2 += std::pow(x0[3 * j + d] - x0[3 * i + d], 2);
-    return std::sqrt(r2);
-}
-
 namespace {
 /// Zero-sized per-body arrays of the laws (law_constants() fills them).
 void size_law(BodyLaw& law, std::size_t nb, int dimension) {
