@@ -28,10 +28,9 @@ double hash_unit(std::uint64_t z) {
 }
 
 #if defined(PD_KERNELS_AVX2)
-/// The compact PMB row (BondOperator::pmb_row_force) four bonds at a time in AVX2 lanes: f +=
-/// sum c (d . dw) d over the first m - m % 4 of the row's m bonds (neighbours nb, the c from
-/// `coef`, 4 B each); returns how many it took. The same operator; the sums' order differs from
-/// the SSE2 path's, as between rank counts.
+/// BondOperator::pmb_row_force four bonds at a time in AVX2 lanes: f += sum c (d . dw) d over
+/// the first m - m % 4 of the row's m bonds (neighbours nb, c from `coef`, 4 B each); returns
+/// how many it took. The sums' order differs from the SSE2 path's, as between rank counts.
 PD_AVX2 std::size_t pmb_compact_avx2(const double* X, const double* w, const index_t* nb,
                                      const char* coef, std::size_t i, std::size_t m, double f[3]) {
     const __m256d xi[3] = {_mm256_set1_pd(X[3 * i]), _mm256_set1_pd(X[3 * i + 1]),
@@ -234,12 +233,10 @@ class BondOperator {
     /// |d|_1 (s_i + s_j) <= sqrt(3) V_i s_i |kb'| (s_i + s_j) over its bonds (|d_e| |d|_1 <=
     /// sqrt(3) |d|^2). margin_ = 4 u max_i V_i s_i sum_j |kb'| (s_i + s_j) >= 2 sqrt(3) u R
     /// (the second u for A's own roundings), which bond_spectrum adds to both ends of its
-    /// bracket. No compact path (margin_ 0) when a c is not a normal float.
-    ///
-    /// Memory: with no LPS or RNP body nothing reads xi during the estimate, and the c, two
-    /// per double, take xi's storage; ~BondOperator recomputes xi from x0 with build_bonds'
-    /// bond_length (the same bits: each xi is checked against it before it is overwritten,
-    /// and at a mismatch xi is restored and c take an array of their own).
+    /// bracket. No compact path (margin_ 0) when a c is not a normal float. Memory: with no LPS
+    /// or RNP body (nothing reads xi here) the c, two per double, take xi's storage, and
+    /// ~BondOperator recomputes xi with bond_length (the same bits: each xi is checked against
+    /// it before it is overwritten; at a mismatch xi is restored, the c get their own array).
     void compact_coefficients() {
         const auto nb = b_.kb.size();
         int bad = 2;
