@@ -466,6 +466,12 @@ void damage_phi(const State& s, const BondData& b, const BodyLaw& law, std::vect
 #pragma omp parallel for schedule(static) if (n > parallel_min)
     for (std::int64_t a = 0; a < n; ++a) {
         const std::int64_t i = rows[a];
+        // A row with no broken bond: br = 0 and phi = 0 / all or 0, +0.0 either way (the value
+        // assigned above), without its pass over the weights.
+        const auto k0 = static_cast<std::size_t>(b.offsets[a]);
+        const auto len = static_cast<std::size_t>(b.offsets[a + 1]) - k0;
+        if (len == 0 || std::memchr(b.alive.data() + k0, 0, len) == nullptr)
+            continue;
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(i)]);
         double all = 0, br = 0;
         for (offset_t k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {

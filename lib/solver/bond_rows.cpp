@@ -44,13 +44,6 @@ void size_law(BodyLaw& law, std::size_t nb, int dimension) {
     law.alpha = dimension == 3 ? 15.0 : 8.0;
 }
 
-/// |X_j - X_i|, computed the same way wherever a bond's length is needed (bitwise equal).
-double bond_length(const std::vector<double>& x0, std::size_t i, std::size_t j) {
-    double r2 = 0;
-    for (std::size_t d = 0; d < 3; ++d)
-        r2 += std::pow(x0[3 * j + d] - x0[3 * i + d], 2);
-    return std::sqrt(r2);
-}
 /// Grain-level damping (and PeriDEM's particle damping) needs whole grains per rank.
 void check_whole_grains(const Forces& f) {
     if (!(f.damping || f.approach) || !f.dom->distributed())

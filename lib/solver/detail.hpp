@@ -6,6 +6,7 @@
 #include "solver/forces.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -39,6 +40,15 @@ void put_rows(const std::vector<T>& from, const std::vector<offset_t>& local,
 }
 
 // bond_rows.cpp
+/// |X_j - X_i| of nodes i and j in x0 (3 per node): a bond's reference length xi, the same bits
+/// wherever it is computed (build_bonds; bond_spectrum restores xi with it).
+/// Inline: bond_spectrum calls it twice per bond.
+inline double bond_length(const std::vector<double>& x0, std::size_t i, std::size_t j) {
+    double r2 = 0;
+    for (std::size_t d = 0; d < 3; ++d)
+        r2 += std::pow(x0[3 * j + d] - x0[3 * i + d], 2);
+    return std::sqrt(r2);
+}
 /// Per-body constants of the bond laws (f.law), from the materials (constructor).
 void law_constants(Forces& f);
 /// This rank's rows of the bond list (reference lengths, factors, influence; alive = 1), the

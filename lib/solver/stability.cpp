@@ -4,12 +4,14 @@
 #include "core/errors.hpp"
 #include "solver/bond_kernels.hpp"
 #include "solver/contact.hpp"
+#include "solver/detail.hpp"
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace pd::solver {
@@ -25,13 +27,48 @@ double hash_unit(std::uint64_t z) {
     return static_cast<double>(z >> 11) * 0x1p-52 - 1.0;
 }
 
+#if defined(PD_KERNELS_AVX2)
+/// BondOperator::pmb_row_force four bonds at a time in AVX2 lanes: f += sum c (d . dw) d over
+/// the first m - m % 4 of the row's m bonds (neighbours nb, c from `coef`, 4 B each); returns
+/// how many it took. The sums' order differs from the SSE2 path's, as between rank counts.
+PD_AVX2 std::size_t pmb_compact_avx2(const double* X, const double* w, const index_t* nb,
+                                     const char* coef, std::size_t i, std::size_t m, double f[3]) {
+    const __m256d xi[3] = {_mm256_set1_pd(X[3 * i]), _mm256_set1_pd(X[3 * i + 1]),
+                           _mm256_set1_pd(X[3 * i + 2])};
+    const __m256d wi[3] = {_mm256_set1_pd(w[3 * i]), _mm256_set1_pd(w[3 * i + 1]),
+                           _mm256_set1_pd(w[3 * i + 2])};
+    __m256d acc[3] = {_mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd()};
+    std::size_t b = 0;
+    for (; b + 3 < m; b += 4) {
+        __m256d d[3], dw[3];
+        kernels::gather4(X, nb + b, xi, d);
+        kernels::gather4(w, nb + b, wi, dw);
+        const __m256d dd =
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d[0], dw[0]), _mm256_mul_pd(d[1], dw[1])),
+                          _mm256_mul_pd(d[2], dw[2]));
+        const __m256d c = _mm256_cvtps_pd(
+            _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(coef + 4 * b))));
+        const __m256d t = _mm256_mul_pd(c, dd);
+        for (int e = 0; e < 3; ++e)
+            acc[e] = _mm256_add_pd(acc[e], _mm256_mul_pd(t, d[e]));
+    }
+    for (int e = 0; e < 3; ++e) {
+        const __m128d h =
+            _mm_add_pd(_mm256_castpd256_pd128(acc[e]), _mm256_extractf128_pd(acc[e], 1));
+        f[e] += kernels::lane0(h) + kernels::lane1(h);
+    }
+    return b;
+}
+#endif
+
 /// The linearised bond operator y = D^-1/2 K D^-1/2 x over this rank's rows (3 per node, full
 /// length 3n; ghosts of x must be current).
 class BondOperator {
   public:
-    BondOperator(const State& s, const BondData& b, const BodyLaw& law, Domain& dom)
+    BondOperator(const State& s, BondData& b, const BodyLaw& law, Domain& dom, bool compact)
         : s_(s)
         , b_(b)
+        , xi_(b.xi)
         , law_(law)
         , dom_(dom) {
         PD_CHECK(b.kb.size() == b.xi.size(), "bond_constants before the stability estimate");
@@ -74,9 +111,19 @@ class BondOperator {
             dq_.assign(n, 0.0);
         }
         w_.assign(3 * n, 0.0);
+        if (compact)
+            compact_coefficients();
     }
+    BondOperator(const BondOperator&) = delete;
+    BondOperator& operator=(const BondOperator&) = delete;
+    /// xi back in its storage, if compact_coefficients borrowed it.
+    ~BondOperator() { restore_xi(b_.offsets[s_.rows.size()]); }
 
     bool active(std::size_t dof) const { return mask_[dof] != 0; }
+
+    /// The bound m of |lambda_max(A') - lambda_max(A)| for the compact coefficients A' (0 on
+    /// the reference path).
+    double margin() const { return margin_; }
 
     /// y = A x (owned rows; x's ghosts current). x and y full length.
     void apply(const std::vector<double>& x, std::vector<double>& y) {
@@ -92,8 +139,8 @@ class BondOperator {
             const auto i = static_cast<std::size_t>(s_.rows[a]);
             double f[3] = {0, 0, 0};
             const auto body = static_cast<std::size_t>(s_.body[i]);
-            if (scale_[i] > 0 && !law_.rnp[body] && !law_.lps[body])
-                pmb_row_force(a, i, body, f);
+            if (scale_[i] > 0 && coef_ && !law_.rnp[body] && !law_.lps[body])
+                pmb_row_force(a, i, f);
             else if (scale_[i] > 0)
                 row_force(a, i, f);
             // Nodal force V_i f_i, scaled by D^-1/2; minus: K = -df/du is positive.
@@ -176,17 +223,119 @@ class BondOperator {
             f[2] += t * e[2];
         }
     }
-    /// The force density f of the PMB row a (node i of `body`): per bond kb (d . dw) d / |d|^2
-    /// with d = x_j - x_i, row_force's kb (e . dw) e without the unit vector e = d / |d| (one
-    /// division per bond instead of a square root and three), two bonds at a time in SSE2 lanes.
-    /// The same operator to rounding; its last bits differ from row_force's, as the sums of
-    /// different rank counts do, and the step is rounded to 3 digits once Lanczos has decided
-    /// it (bond_spectrum).
-    void pmb_row_force(std::size_t a, std::size_t i, std::size_t body, double f[3]) const {
+    /// Per PMB bond the float c = kb' / |d|^2 (d = x_j - x_i, kb' the stiffness row_force
+    /// gives the bond: kb, or for a broken bond its repulsion's): what the Lanczos steps stream
+    /// is then the neighbour index and c, 8 B a bond instead of 13 (index, kb, alive flag), and
+    /// no division. The rounding of c to float is a relative error of at most u = 2^-24 per
+    /// term of A, so A' = A + E with |E| <= u T entrywise, T the bonds' terms of A in absolute
+    /// value (symmetric, nonnegative), and |lambda_max(A') - lambda_max(A)| <= ||E||_2 <= u
+    /// ||T||_2 <= u R, R the largest row sum of T. A row (i, e) of T sums V_i s_i |c| |d_e|
+    /// |d|_1 (s_i + s_j) <= sqrt(3) V_i s_i |kb'| (s_i + s_j) over its bonds (|d_e| |d|_1 <=
+    /// sqrt(3) |d|^2). margin_ = 4 u max_i V_i s_i sum_j |kb'| (s_i + s_j) >= 2 sqrt(3) u R
+    /// (the second u for A's own roundings), which bond_spectrum adds to both ends of its
+    /// bracket. No compact path (margin_ 0) when a c is not a normal float. Memory: with no LPS
+    /// or RNP body (nothing reads xi here) the c, two per double, take xi's storage, and
+    /// ~BondOperator recomputes xi with bond_length (the same bits: each xi is checked against
+    /// it before it is overwritten; at a mismatch xi is restored, the c get their own array).
+    void compact_coefficients() {
+        const auto nb = b_.kb.size();
+        int bad = 2;
+        if (!law_.any_lps && !law_.any_rnp && xi_.size() == nb) {
+            store_ = xi_.data();
+            bad = fill_coefficients(true);
+            if (bad == 0)
+                return;
+            restore_xi(nb);
+        }
+        if (bad == 2) { // xi's storage not borrowed: an array of their own
+            own_.assign((nb + 1) / 2, 0.0);
+            store_ = own_.data();
+            bad = fill_coefficients(false);
+        }
+        if (bad != 0)
+            store_ = nullptr;
+    }
+    /// compact_coefficients' pass into store_ (collective): 0, or 1 at a c that is not a normal
+    /// float, or 2 at an xi that bond_length does not give (`check`; xi's storage borrowed up to
+    /// the row before it).
+    int fill_coefficients(bool check) {
+        const double* X = s_.x.data();
+        const double* vol = s_.vol.data();
+        auto* out = reinterpret_cast<char*>(store_);
+        double r_max = 0;
+        bool ok = true, same = true;
+        for (std::size_t a = 0; a < s_.rows.size() && ok && same; ++a) {
+            const auto i = static_cast<std::size_t>(s_.rows[a]);
+            const auto body = static_cast<std::size_t>(s_.body[i]);
+            const bool pmb = scale_[i] > 0 && !law_.rnp[body] && !law_.lps[body];
+            double rs = 0;
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
+                if (check && xi_[kk] != detail::bond_length(s_.x0, i, j)) {
+                    same = false;
+                    borrowed_ = kk;
+                    break;
+                }
+                float cf = 0;
+                if (pmb) {
+                    double l2 = 0;
+                    for (std::size_t c = 0; c < 3; ++c)
+                        l2 += (X[3 * j + c] - X[3 * i + c]) * (X[3 * j + c] - X[3 * i + c]);
+                    const double kp = pmb_stiffness(kk, j, body);
+                    cf = static_cast<float>(kp / l2);
+                    ok = ok && (std::isnormal(cf) || kp == 0);
+                    rs += std::abs(kp) * (scale_[i] + scale_[j]);
+                }
+                std::memcpy(out + 4 * kk, &cf, 4); // xi[kk / 2] was checked at kk / 2 <= kk
+            }
+            r_max = std::max(r_max, vol[i] * scale_[i] * rs);
+            if (check && same)
+                borrowed_ = static_cast<std::size_t>(b_.offsets[a + 1]);
+        }
+        const int bad = static_cast<int>(dom_.max(!same ? 2.0 : !ok ? 1.0 : 0.0));
+        if (bad != 0)
+            return bad;
+        margin_ = 0x1p-22 * dom_.max(r_max);
+        coef_ = true;
+        return 0;
+    }
+    /// xi of the bonds below `end` from x0 where compact_coefficients borrowed its storage.
+    void restore_xi(std::size_t end) {
+        end = std::min(end, borrowed_);
+        for (std::size_t a = 0; a < s_.rows.size(); ++a) {
+            const auto i = static_cast<std::size_t>(s_.rows[a]);
+            for (auto k = b_.offsets[a]; k < b_.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                if (kk >= end)
+                    break;
+                xi_[kk] = detail::bond_length(s_.x0, i, static_cast<std::size_t>(b_.neighbor[kk]));
+            }
+        }
+        borrowed_ = 0;
+    }
+    /// The compact c of bond k (compact_coefficients' store, 4 B each).
+    float coefficient(std::size_t k) const {
+        float c;
+        std::memcpy(&c, reinterpret_cast<const char*>(store_) + 4 * k, 4);
+        return c;
+    }
+    /// The force density f of the PMB row a (node i): per bond c (d . dw) d with d = x_j - x_i
+    /// and the compact c = kb / |d|^2 (compact_coefficients), four bonds at a time in AVX2 lanes
+    /// where the CPU has them (pmb_compact_avx2), then two at a time in SSE2 lanes.
+    /// The same operator as row_force's kb (e . dw) e (e = d / |d|) to the rounding of c.
+    void pmb_row_force(std::size_t a, std::size_t i, double f[3]) const {
         auto k = b_.offsets[a];
         const auto end = b_.offsets[a + 1];
         const double* X = s_.x.data();
         const double* w = w_.data();
+        const char* coef = reinterpret_cast<const char*>(store_);
+#if defined(PD_KERNELS_AVX2)
+        if (avx2_)
+            k += static_cast<offset_t>(pmb_compact_avx2(X, w, b_.neighbor.data() + k,
+                                                        coef + 4 * static_cast<std::size_t>(k), i,
+                                                        static_cast<std::size_t>(end - k), f));
+#endif
 #if defined(__SSE2__)
         using V = __m128d;
         const V xi[3] = {_mm_set1_pd(X[3 * i]), _mm_set1_pd(X[3 * i + 1]),
@@ -200,29 +349,26 @@ class BondOperator {
             V d[3], dw[3];
             kernels::gather2(X, ja, jb, xi, d);
             kernels::gather2(w, ja, jb, wi, dw);
-            const V l2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], d[0]), _mm_mul_pd(d[1], d[1])),
-                                    _mm_mul_pd(d[2], d[2]));
             const V dd = _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], dw[0]), _mm_mul_pd(d[1], dw[1])),
                                     _mm_mul_pd(d[2], dw[2]));
-            const V kb = _mm_set_pd(pmb_stiffness(ka + 1, static_cast<std::size_t>(jb), body),
-                                    pmb_stiffness(ka, static_cast<std::size_t>(ja), body));
-            const V t = _mm_div_pd(_mm_mul_pd(kb, dd), l2);
-            for (int c = 0; c < 3; ++c)
-                acc[c] = _mm_add_pd(acc[c], _mm_mul_pd(t, d[c]));
+            const V c = _mm_cvtps_pd(
+                _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(coef + 4 * ka))));
+            const V t = _mm_mul_pd(c, dd);
+            for (int e = 0; e < 3; ++e)
+                acc[e] = _mm_add_pd(acc[e], _mm_mul_pd(t, d[e]));
         }
-        for (int c = 0; c < 3; ++c)
-            f[c] += kernels::lane0(acc[c]) + kernels::lane1(acc[c]);
+        for (int e = 0; e < 3; ++e)
+            f[e] += kernels::lane0(acc[e]) + kernels::lane1(acc[e]);
 #endif
         for (; k < end; ++k) { // the odd last bond (every bond without SSE2)
             const auto kk = static_cast<std::size_t>(k);
             const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
-            double d[3], l2 = 0, dd = 0;
+            double d[3], dd = 0;
             for (std::size_t c = 0; c < 3; ++c) {
                 d[c] = X[3 * j + c] - X[3 * i + c];
-                l2 += d[c] * d[c];
                 dd += d[c] * (w[3 * j + c] - w[3 * i + c]);
             }
-            const double t = pmb_stiffness(kk, j, body) * dd / l2;
+            const double t = static_cast<double>(coefficient(kk)) * dd;
             for (std::size_t c = 0; c < 3; ++c)
                 f[c] += t * d[c];
         }
@@ -284,6 +430,13 @@ class BondOperator {
     std::vector<double> scale_; ///< 1 / sqrt(rho V), 0 for nodes that do not move
     std::vector<std::uint8_t> mask_;
     std::vector<double> g_, dth_, dq_, w_;
+    std::vector<double>& xi_;  ///< b_.xi, whose storage compact_coefficients may borrow
+    std::vector<double> own_;  ///< the c's storage when xi's is not borrowed
+    double* store_ = nullptr;  ///< the c, 4 B each (xi's storage or own_)
+    std::size_t borrowed_ = 0; ///< bonds below it hold c in xi's storage
+    bool coef_ = false;        ///< the PMB rows run on the c
+    bool avx2_ = kernels::best_isa() == kernels::Isa::avx2; ///< pmb_compact_avx2 for them
+    double margin_ = 0;
 };
 
 } // namespace
@@ -295,10 +448,11 @@ double round_step(double dt, int digits) {
     return std::floor(dt / unit * (1 + 1e-9)) * unit;
 }
 
-BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
-                           int max_iterations, double tolerance, int step_digits) {
+BondSpectrum bond_spectrum(const State& s, BondData& b, const BodyLaw& law, Domain& dom,
+                           int max_iterations, double tolerance, int step_digits, bool compact) {
     BondSpectrum r;
-    BondOperator A(s, b, law, dom);
+    BondOperator A(s, b, law, dom, compact);
+    const double m = A.margin();
     const std::size_t n3 = 3 * s.n;
     std::vector<double> q(n3, 0.0), q_prev(n3, 0.0), w(n3, 0.0);
     for (auto row : s.rows) {
@@ -346,8 +500,9 @@ BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law
             k > 1 ? Eigen::Map<Eigen::VectorXd>(beta.data(), k - 1).eval() : Eigen::VectorXd();
         Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
         es.computeFromTridiagonal(diag, sub, Eigen::ComputeEigenvectors);
-        r.ritz = es.eigenvalues()(k - 1);
-        r.residual = be * std::abs(es.eigenvectors()(k - 1, k - 1));
+        // The bracket of A's lambda_max: A''s, widened by the compact path's margin.
+        r.ritz = es.eigenvalues()(k - 1) - m;
+        r.residual = be * std::abs(es.eigenvectors()(k - 1, k - 1)) + 2 * m;
         r.iterations = it + 1;
         beta.push_back(be);
         // Converged: the top Ritz value is steady and its residual small.

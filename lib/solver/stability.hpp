@@ -43,8 +43,18 @@ struct BondSpectrum {
 /// both stay in the bracket and round to the same step (issue 29 item 3: 23 -> 19 steps on
 /// the 1.03 M-node block, 20 -> 18 at 2.6e5 nodes, the same step). Only a residual that grew
 /// again could have made the old stop return one unit of the last digit less.
-BondSpectrum bond_spectrum(const State& s, const BondData& b, const BodyLaw& law, Domain& dom,
-                           int max_iterations = 80, double tolerance = 1e-4, int step_digits = 0);
+///
+/// `compact` (issue 29 item 3): the PMB rows run on a float copy of kb / |d|^2 per bond, 8 B a
+/// bond a step instead of 13 and no division; that operator's lambda_max is within a stated
+/// margin m of the exact one's (4 u times a row-sum bound of the bonds' terms, u = 2^-24: about
+/// 1e-6 of it), and the bracket returned is widened by m at both ends, so a decided step is
+/// that of the exact operator. With no LPS or RNP body the copy takes b.xi's storage during the
+/// call (no memory added at the start-up's peak) and xi is recomputed from x0 after it, the same
+/// bits (checked before each is overwritten). `compact` false: every row through the reference
+/// kernel (row_force), b untouched.
+BondSpectrum bond_spectrum(const State& s, BondData& b, const BodyLaw& law, Domain& dom,
+                           int max_iterations = 80, double tolerance = 1e-4, int step_digits = 0,
+                           bool compact = true);
 
 /// The time step the solver reports (s): dt rounded down to `digits` significant digits (the
 /// Lanczos sums differ in their last bits between rank counts, the step must not); dt itself
