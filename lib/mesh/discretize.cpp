@@ -111,9 +111,13 @@ std::vector<double> boundary_distance(const model::RefMesh& m, int dimension) {
     // O(n n_b) (81 % of pd-pack's time on a 2e6-node plate, and growing as n^1.5).
     const NearestPoints tree(m.nodes, std::move(bnodes), dimension);
     std::vector<double> out(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i)
+    const auto count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(dynamic, 4096)
+    for (std::int64_t k = 0; k < count; ++k) {
+        const auto i = static_cast<std::size_t>(k);
         if (!boundary[i])
             out[i] = tree.distance(&m.nodes[3 * i]);
+    }
     return out;
 }
 
