@@ -123,33 +123,32 @@ Bonds build_bonds(const Nodes& nodes, const Bodies& bodies, bool partial_cutoff)
     auto reach_of = [&](std::size_t b) {
         return bodies.horizon[b] + (partial_cutoff ? 0.5 * bodies.mesh_size[b] : 0.0);
     };
-    std::vector<offset_t> count(n, 0);
-    for (std::size_t b = 0; b < bodies.num(); ++b) {
-        const auto i0 = bodies.begin(b), i1 = bodies.end(b);
-        if (i1 <= i0)
-            continue;
-        const BodyCells cells(nodes, i0, i1, reach_of(b));
+    // row(cells, i) for every node i of every body, each node by one thread.
+    auto each_row = [&](auto&& row) {
+        for (std::size_t b = 0; b < bodies.num(); ++b) {
+            const auto i0 = bodies.begin(b), i1 = bodies.end(b);
+            if (i1 <= i0)
+                continue;
+            const BodyCells cells(nodes, i0, i1, reach_of(b));
 #pragma omp parallel for schedule(dynamic, 1024)
-        for (auto i = i0; i < i1; ++i)
-            cells.neighbours(i, [&](index_t) { ++count[static_cast<std::size_t>(i)]; });
-    }
+            for (auto i = i0; i < i1; ++i)
+                row(cells, i);
+        }
+    };
+    std::vector<offset_t> count(n, 0);
+    each_row([&](const BodyCells& cells, std::int64_t i) {
+        cells.neighbours(i, [&](index_t) { ++count[static_cast<std::size_t>(i)]; });
+    });
     for (std::size_t i = 0; i < n; ++i)
         bonds.offsets[i + 1] = bonds.offsets[i] + count[i];
     count = {};
     bonds.neighbor.resize(static_cast<std::size_t>(bonds.offsets[n]));
-    for (std::size_t b = 0; b < bodies.num(); ++b) {
-        const auto i0 = bodies.begin(b), i1 = bodies.end(b);
-        if (i1 <= i0)
-            continue;
-        const BodyCells cells(nodes, i0, i1, reach_of(b));
-#pragma omp parallel for schedule(dynamic, 1024)
-        for (auto i = i0; i < i1; ++i) {
-            const auto first = bonds.neighbor.begin() + bonds.offsets[static_cast<std::size_t>(i)];
-            auto out = first;
-            cells.neighbours(i, [&](index_t j) { *out++ = j; });
-            std::sort(first, out);
-        }
-    }
+    each_row([&](const BodyCells& cells, std::int64_t i) {
+        const auto first = bonds.neighbor.begin() + bonds.offsets[static_cast<std::size_t>(i)];
+        auto out = first;
+        cells.neighbours(i, [&](index_t j) { *out++ = j; });
+        std::sort(first, out);
+    });
     return bonds;
 }
 
