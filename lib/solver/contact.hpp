@@ -198,6 +198,8 @@ class ContactList {
     void remember_depths(double time, std::vector<Touched>& marks) const;
     /// Is (i, body) held (touched_ with depth held_mark)?
     bool held(std::size_t i, std::int32_t body) const;
+    /// Was (i, body) in contact at the last evaluation (touched_ with a depth >= 0)?
+    bool in_contact(std::size_t i, std::int32_t body) const;
     void count_held() const; ///< held_count_ from touched_
     void closest_facets(std::size_t a, std::size_t i, const State& s,
                         std::vector<Best>& best) const;
@@ -266,6 +268,7 @@ class ContactList {
         double energy;       ///< J
         double depth;        ///< m, |p - y_i|
         bool deep;           ///< more than h / 2 inside (the guard's failure)
+        bool beyond;         ///< deep past the law's reach h, no force (surface_row)
     };
     struct Touched {
         index_t i;

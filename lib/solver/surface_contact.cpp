@@ -416,14 +416,37 @@ void ContactList::surface_row(std::size_t a, const State& s, std::vector<Event>&
             continue;
         }
         const double d1 = 0.5 * h_body_[static_cast<std::size_t>(b.body)], d2 = 2 * d1;
-        if (d >= d2)
-            continue;
         // Depth grows continuously, and a node enters from the boundary (depth_continuous,
         // surface_history.cpp): a jumped depth is not a node that came through this boundary,
         // and a force from it would create its energy at once; the pair is held (no force)
         // until an evaluation finds the node outside that body.
         const double d0 = onset_share * b.law->radius;
-        if (touched_known_ && !depth_continuous(i, b.body, b.facet, b.w, d0, d, s)) {
+        const bool continuous =
+            !touched_known_ || depth_continuous(i, b.body, b.facet, b.w, d0, d, s);
+        if (d >= d2) {
+            // Beyond the law's reach: no force. A pair that got here continuously from contact
+            // (the last evaluation's event, or already beyond then) went through this boundary:
+            // contact failed, and an event without force says so to the guard for as long as
+            // the node stays within this body's facets' reach (every evaluation: the guard
+            // cannot miss it between its observations). A pair that jumped here (a node in a
+            // crack of a broken grain behind a facet that still stands, or a new closest
+            // facet) is left alone. The force does not change: none here; a node that comes
+            // back to d < h continues its contact on U, continuous (0 at h).
+            if (touched_known_ && continuous && in_contact(i, b.body))
+                out.push_back({static_cast<index_t>(i),
+                               b.facet,
+                               {b.w[0], b.w[1], b.w[2]},
+                               {0.0, 0.0, 0.0},
+                               -1,
+                               {0.0, 0.0},
+                               {0.0, 0.0, 0.0},
+                               0.0,
+                               d,
+                               true,
+                               true});
+            continue;
+        }
+        if (!continuous) {
             if (marks)
                 marks->push_back({static_cast<index_t>(i), b.body, held_mark});
             continue;
@@ -443,7 +466,8 @@ void ContactList::surface_row(std::size_t a, const State& s, std::vector<Event>&
                            {f1 * bl.n[1][0], f1 * bl.n[1][1], 0.0},
                            energy,
                            d,
-                           d > d1});
+                           d > d1,
+                           false});
             continue;
         }
         const double a = fmag / d;
@@ -456,7 +480,8 @@ void ContactList::surface_row(std::size_t a, const State& s, std::vector<Event>&
                        {0.0, 0.0, 0.0},
                        energy,
                        d,
-                       d > d1});
+                       d > d1,
+                       false});
     }
 }
 
@@ -471,6 +496,16 @@ void ContactList::apply_events(State& s, Sums& sums, std::vector<BodyPairForce>*
         const auto& law = laws_[static_cast<std::size_t>(
             law_of_[static_cast<std::size_t>(body_group_[static_cast<std::size_t>(bi)] * ngroups_ +
                                              body_group_[static_cast<std::size_t>(bj)])])];
+        if (ev.beyond) { // failed contact, no force (surface_row): counted, nothing else
+            if (owned_[i]) {
+                ++sums.inside;
+                if (sums.first_node < 0) {
+                    sums.first_node = ev.i;
+                    sums.first_body = bj;
+                }
+            }
+            continue;
+        }
         const double total[3] = {ev.force[0] + ev.force2[0], ev.force[1] + ev.force2[1],
                                  ev.force[2] + ev.force2[2]};
         if (owned_[i]) {

@@ -66,6 +66,12 @@ bool ContactList::held(std::size_t i, std::int32_t body) const {
     return it != touched_.end() && it->i == key.i && it->body == body && it->depth < 0;
 }
 
+bool ContactList::in_contact(std::size_t i, std::int32_t body) const {
+    const Touched key{static_cast<index_t>(i), body, 0.0};
+    const auto it = std::lower_bound(touched_.begin(), touched_.end(), key);
+    return it != touched_.end() && it->i == key.i && it->body == body && it->depth >= 0;
+}
+
 void ContactList::remember_depths(double time, std::vector<Touched>& marks) const {
     // The held pairs carry over unless this evaluation marked them (held again, or free): a
     // row not evaluated (its slack) or a body out of reach says nothing about inside.

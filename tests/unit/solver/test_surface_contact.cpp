@@ -5,6 +5,7 @@
 #include "body_means.hpp"
 #include "core/log.hpp"
 #include "pipeline/scene.hpp"
+#include "pressed_blocks.hpp"
 #include "solver/solver.hpp"
 #include "solver/surface_penalty.hpp"
 
@@ -341,33 +342,6 @@ TEST(WallWork, MovingWallWorkIsExactAtFirstContact) {
 
 } // namespace
 
-namespace {
-/// Two blocks of the facet-skip test, b pressed `depth` into a (bonds unstretched).
-model::Model pressed_blocks(double depth) {
-    auto m = pipeline::build_scene(R"({"dimension": 2,
-      "materials": {"m": {"density": 1200, "youngs_modulus": 3.24e7}},
-      "discretization": {"mesh_size": 2e-4, "horizon_factor": 3},
-      "shapes": {"a": {"type": "rectangle", "corners": [[-2e-3, -1e-3], [2e-3, 0]]},
-                 "b": {"type": "rectangle", "corners": [[-1e-3, 0], [1e-3, 1e-3]]}},
-      "particles": [{"shape": "a", "center": [0, 0], "material": "m"},
-                    {"shape": "b", "center": [0, 1e-4], "material": "m"}],
-      "contact": {"law": "surface"}, "solver": {"final_time": 1}})",
-                                   "t", quiet);
-    for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i)
-        m.nodes.x0[3 * static_cast<std::size_t>(i) + 1] -= 1e-4 + depth;
-    return m;
-}
-
-/// Moves block b (body 1) of pressed_blocks `dy` along y at once, at rest.
-void shift_b(const model::Model& m, solver::State& st, double dy) {
-    for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i) {
-        const auto k = static_cast<std::size_t>(i);
-        st.x[3 * k + 1] += dy;
-        st.u[3 * k + 1] += dy;
-    }
-}
-} // namespace
-
 TEST(SurfaceContact, ADepthThatJumpsIsLeftAlone) {
     // A node's depth behind a boundary grows by at most its motion relative to the facet; one
     // that jumps did not come through it (a facet torn under it, a corner that rearranged) and
@@ -376,14 +350,14 @@ TEST(SurfaceContact, ADepthThatJumpsIsLeftAlone) {
     // left alone (no energy appears), while the same blocks set up 0.42 h deep from the start
     // hold the energy of that depth (the rule, not the geometry, drops the force).
     const double h = 2e-4;
-    auto m = pressed_blocks(0.02 * h);
+    auto m = test::pressed_blocks(0.02 * h);
     solver::Solver s(m);
     s.initialize();
     const double e0 = s.observe().contact_energy;
-    shift_b(m, s.state(), -0.4 * h);
+    test::shift_b(m, s.state(), -0.4 * h);
     s.advance();
     const double jumped = s.observe().contact_energy;
-    auto deep = pressed_blocks(0.42 * h);
+    auto deep = test::pressed_blocks(0.42 * h);
     solver::Solver s2(deep);
     s2.initialize();
     const double held = s2.observe().contact_energy;
@@ -405,19 +379,19 @@ TEST(SurfaceContact, AJumpedPairIsHeldUntilTheNodeIsOutside) {
     // the pairs took that depth (78 x the energy at the 0.02 h start); held, none. Set outside and
     // then 0.01 h in, b is pushed again (the hold ends where the node is found outside).
     const double h = 2e-4;
-    auto m = pressed_blocks(0.02 * h);
+    auto m = test::pressed_blocks(0.02 * h);
     solver::Solver s(m);
     s.set_dt(0.5 * s.stable_dt().limit);
     s.initialize();
     const double e0 = s.observe().contact_energy;
-    shift_b(m, s.state(), -0.4 * h);
+    test::shift_b(m, s.state(), -0.4 * h);
     s.advance();
     const double jumped = s.observe().contact_energy;
     auto& st = s.state();
     const double v = 0.125 * h / s.dt();
     for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i)
         st.v[3 * static_cast<std::size_t>(i) + 1] = v;
-    shift_b(m, st, 0.15 * h);
+    test::shift_b(m, st, 0.15 * h);
     s.advance();
     const double back = s.observe().contact_energy;
     for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i)
@@ -426,10 +400,10 @@ TEST(SurfaceContact, AJumpedPairIsHeldUntilTheNodeIsOutside) {
     double lowest = 1;
     for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i)
         lowest = std::min(lowest, st.x[3 * static_cast<std::size_t>(i) + 1]);
-    shift_b(m, st, -lowest + 0.1 * h); // 0.1 h above a: outside
+    test::shift_b(m, st, -lowest + 0.1 * h); // 0.1 h above a: outside
     s.advance();
     const double outside = s.observe().contact_energy;
-    shift_b(m, st, -0.11 * h); // 0.01 h in: within the onset's allowance
+    test::shift_b(m, st, -0.11 * h); // 0.01 h in: within the onset's allowance
     s.advance();
     const double again = s.observe().contact_energy;
     std::printf("[ held ] energy at 0.02 h %.3e J; jumped %.3e J; back to %.2f h deep, fast, "
@@ -449,7 +423,7 @@ TEST(SurfaceContact, ARestartKeepsTheDepthHistory) {
     // a restart without the history takes the jumped depth (0.58 J). Without it the oedometer's
     // full run, restarted at 16 ms, gained 38 % of its energy within 4 steps.
     const double h = 2e-4;
-    auto m = pressed_blocks(0.02 * h);
+    auto m = test::pressed_blocks(0.02 * h);
     solver::Solver a(m);
     a.initialize();
     const double e0 = a.observe().contact_energy;
@@ -467,7 +441,7 @@ TEST(SurfaceContact, ARestartKeepsTheDepthHistory) {
         b.restore(st.step, st.time, st.u, st.v, st.f, alive, a.broken_total());
         if (history)
             b.set_surface_depths(pairs, depths, time);
-        shift_b(m, b.state(), -0.4 * h);
+        test::shift_b(m, b.state(), -0.4 * h);
         b.advance();
         return b.observe().contact_energy;
     };
@@ -488,7 +462,7 @@ TEST(SurfaceContact, UnloadingDampingHoldsAPressedStack) {
     // within the step (contact_damping.cpp), b set onto a fixed a under 2000 g holds: the balance
     // within 2 % of gravity's work, and the damping dissipates less than that work (all there
     // is). Measured: 3.2e-7 J of 6.3e-5 J; uncapped 6.3e-4 J created, 6.6e-4 J "dissipated".
-    auto m = pressed_blocks(0);
+    auto m = test::pressed_blocks(0);
     for (auto& p : m.contact)
         p.restitution = 0.5;
     m.loading.gravity = {0, -2e4, 0};
@@ -520,7 +494,7 @@ TEST(SurfaceContact, FacetSkipKeepsEveryForceWithinTheMeshSize) {
     // the other (axis-aligned) block's nearest side. A skip of reach r (no h) was tried: 1e-30 J
     // against 3.08e-2 J (every force dropped). The skip changes no force: the run of 3D spheres
     // poured to 14 ms (42 contacts) and a 2D box of 78 grains (30 ms) are bitwise the same.
-    auto m = pressed_blocks(0); // b's bottom side at y = 0, then down to -depth: into a
+    auto m = test::pressed_blocks(0); // b's bottom side at y = 0, then down to -depth: into a
     // h: each body's mesh size as the law takes it (measured on its mesh, not the nominal 0.2 mm)
     const double ha = m.bodies.mesh_size[0], hb = m.bodies.mesh_size[1];
     const double depth = 0.9 * std::min(ha, hb);
