@@ -294,7 +294,7 @@ void ContactList::ghosts(std::vector<index_t>& out) const {
     if (!any_surface_)
         return;
     // The surface law reads every vertex of the facets at the candidates, and in 2D of the
-    // facets across their vertices (surface_contact.cpp, vertex_blend).
+    // facets across their vertices (surface_blend.cpp, vertex_blend).
     const auto nv = static_cast<std::size_t>(facets_.nv);
     const auto add = [&](std::size_t f) {
         for (std::size_t a = 0; a < nv; ++a) {

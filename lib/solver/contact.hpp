@@ -59,7 +59,7 @@ struct Facets {
     /// 2D only (empty in 3D): per facet end e (index 2 f + e), the facet of the same body across
     /// that vertex (-1: none) and c (m): the depth behind a convex vertex is smoothed within
     /// |g_f - g_g| < c sin(theta / 2) (theta the angle between the facets' current normals;
-    /// surface_contact.cpp, vertex_blend), a band of half-width c / 2 about the vertex's
+    /// surface_blend.cpp, vertex_blend), a band of half-width c / 2 about the vertex's
     /// bisector; 0: not smoothed (no vertex of two facets, or a corner of the shape).
     std::vector<std::int32_t> across;
     std::vector<double> blend;
@@ -182,10 +182,17 @@ class ContactList {
     void facet_spheres(const State& s, bool torn_flag) const;
     struct Event;
     struct Best;
-    struct Blend;
+    /// A node's depth smoothed across a convex vertex (vertex_blend).
+    struct Blend {
+        double depth;    ///< m
+        double share[2]; ///< d depth / d g of the closest facet f and of the facet g across
+        double n[2][2];  ///< their outward unit normals
+        double t[2];     ///< the node's foot parameters on their lines (weights 1 - t, t)
+        std::int32_t g;  ///< the facet across the vertex
+    };
     struct Touched;
     /// 2D: node xi behind facet f (closest point weights w) near a convex vertex of f: the
-    /// smoothed depth and its two facets' shares (surface_contact.cpp); false: no smoothing.
+    /// smoothed depth and its two facets' shares (surface_blend.cpp); false: no smoothing.
     bool vertex_blend(std::int32_t f, const double* w, const double* xi, const State& s,
                       Blend& out) const;
     /// Node i at depth d behind `facet` of `body` (foot point weights w): the pair not held,
@@ -212,6 +219,9 @@ class ContactList {
     /// (depth held_mark) and the held pairs found outside (depth free_mark).
     void surface_row(std::size_t a, const State& s, std::vector<Event>& out,
                      std::vector<Best>& best, std::vector<Touched>* marks) const;
+    /// Row i's event with facet b's body at depth d (bl: smoothed across a vertex, or nullptr).
+    void push_pair(std::size_t i, const Best& b, const Blend* bl, double d, double d0,
+                   const State& s, std::vector<Event>& out) const;
     void apply_events(State& s, Sums& sums, std::vector<BodyPairForce>* normal) const;
     template <class Keyed, class RowOf>
     void ghost_rows(const Keyed& keyed, const std::vector<std::vector<index_t>>& rows,

@@ -243,7 +243,7 @@ bool inside_boundary(const solver::Facets& F, const solver::State& s, std::int32
 }
 
 /// Whether x lies within delta / 4 of body b's boundary and within a quarter of the facet of a
-/// convex vertex whose smoothing band is delta (surface_contact.cpp, vertex_blend: the vertex
+/// convex vertex whose smoothing band is delta (surface_blend.cpp, vertex_blend: the vertex
 /// is rounded off, at most delta / 4 deep, over its band).
 bool in_fillet(const solver::Facets& F, const solver::State& s, std::int32_t b, const double* x) {
     for (std::size_t f = 0; f < F.num(); ++f)

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The surface law at a convex vertex (surface_contact.cpp, vertex_blend): a node pressed right
+// The surface law at a convex vertex (surface_blend.cpp, vertex_blend): a node pressed right
 // under a polygonal disc's lowest vertex is pushed along the vertex's bisector, and the push
 // turns continuously as the node passes under the vertex; a disc landing on a frictionless meshed
 // floor with its lowest vertex over a floor node comes down without sliding sideways. Before the
