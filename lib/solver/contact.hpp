@@ -68,12 +68,21 @@ struct Facets {
 /// kappa: c = kappa x the shorter facet at the vertex (reference), so the band reaches kappa / 2
 /// of that facet from the vertex and the bands of a facet's two ends never meet.
 inline constexpr double vertex_blend_share = 0.5;
+/// A cell none of whose edges is longer than this times its reference length is intact
+/// material (surface_inside.cpp): a crack wide enough to let a node of another body in opens
+/// the edges across it by about a mesh size, doubling them.
+inline constexpr double intact_cell_stretch = 1.5;
 /// Largest angle (rad) between the normals of a vertex's facets that is smoothed: a vertex of a
 /// polygonised curve (a 32-gon: 11 deg), not a corner of the shape (a hexagon's 60 deg, a
 /// rectangle's or a turned grid disc's staircase's 90 deg, where the bisector is no better a
 /// normal than either facet's: a grid disc turned by 17 deg on a meshed floor slid at 17 % of
 /// its impact speed with its 90 deg corners smoothed, 7 % without).
 inline constexpr double vertex_blend_max_angle = 0.5235987755982988; // 30 deg
+/// The closest point p of the facet with vertices v (nv of them; positions x) to xi, its
+/// barycentric weights w, and the facet's outward normal n (not normalised;
+/// surface_contact.cpp).
+void facet_point(std::size_t nv, const index_t* v, const double* x, const double* xi, double* p,
+                 double* w, double* n);
 /// The facets of the bodies `want` (1 per body) from their reference meshes; a wanted body whose
 /// mesh has no cells (or not its node count) is an InputError naming it.
 Facets boundary_facets(const model::Model& m, const std::vector<std::uint8_t>& want);
@@ -144,6 +153,9 @@ class ContactList {
     const std::vector<model::ContactPair>& laws() const { return laws_; }
     /// Nodes found inside another grain at the last add_forces() (see Penetration).
     const Penetration& penetration() const { return inside_; }
+    /// Owned nodes inside an intact cell a layer below another body's boundary, at s (surface
+    /// law; surface_inside.cpp): the guard's test that needs no facet.
+    Penetration inside_material(const State& s) const;
     bool any_friction() const { return any_friction_; }
     std::int64_t rebuilds() const { return rebuilds_; }
     std::size_t num_candidates() const { return neighbor_.size(); }
@@ -219,6 +231,13 @@ class ContactList {
     /// (depth held_mark) and the held pairs found outside (depth free_mark).
     void surface_row(std::size_t a, const State& s, std::vector<Event>& out,
                      std::vector<Best>& best, std::vector<Touched>* marks) const;
+    /// icells_ and its CSR from the reference meshes of the bodies `want` (after facets_).
+    void interior_cells(const model::Model& m, const std::vector<std::uint8_t>& want);
+    /// Is owned node i inside interior cell c, every vertex a candidate of i, no edge stretched
+    /// past intact_cell_stretch?
+    bool in_intact_cell(std::size_t i, std::size_t c, const State& s) const;
+    /// Is node i (row a) within h/2 of a standing facet of `body` (this evaluation's spheres)?
+    bool near_boundary(std::size_t a, std::size_t i, std::int32_t body, const State& s) const;
     /// Row i's event with facet b's body at depth d (bl: smoothed across a vertex, or nullptr).
     void push_pair(std::size_t i, const Best& b, const Blend* bl, double d, double d0,
                    const State& s, std::vector<Event>& out) const;
@@ -257,6 +276,12 @@ class ContactList {
     Facets facets_;
     std::vector<double> h_body_;      ///< per body: mesh size h (the penetration guard's h / 2)
     std::vector<std::uint8_t> whole_; ///< per node: 0 a facet vertex that lost half its bonds
+    /// The cells of the surface-law bodies' meshes with no facet vertex (global node ids,
+    /// icell_npc_ per cell) and node -> those cells (CSR): inside_material.
+    std::vector<index_t> icells_;
+    int icell_npc_ = 0, icell_dim_ = 2;
+    std::vector<model::offset_t> icell_off_;
+    std::vector<std::int32_t> icell_of_;
     /// Rows the surface law computes: owned rows, and under MPI the rows of ghost candidates of
     /// owned rows (their events put reactions on owned facet nodes).
     std::vector<index_t> srows_;

@@ -104,8 +104,8 @@ void closest_on_triangle(const double* x, const double* a, const double* b, cons
     set(1 - v - t, v, t);
 }
 
-/// The closest point p of the facet with vertices v (nv of them; positions x) to xi, its
-/// barycentric weights w, and the facet's outward normal n (not normalised).
+} // namespace
+
 void facet_point(std::size_t nv, const index_t* v, const double* x, const double* xi, double* p,
                  double* w, double* n) {
     const double *A = &x[3 * static_cast<std::size_t>(v[0])],
@@ -126,8 +126,6 @@ void facet_point(std::size_t nv, const index_t* v, const double* x, const double
     n[2] = u[0] * t[1] - u[1] * t[0];
 }
 
-} // namespace
-
 void ContactList::init_surface(const model::Model& m) {
     const std::size_t nb = m.bodies.num();
     std::vector<std::uint8_t> want(nb, 0);
@@ -140,6 +138,7 @@ void ContactList::init_surface(const model::Model& m) {
                     want[a] = want[b] = 1;
             }
     facets_ = boundary_facets(m, want);
+    interior_cells(m, want);
     h_body_ = m.bodies.mesh_size;
     // A node less than half an edge (the guard's bound) inside a body has every vertex of the
     // facet it entered through within 1.5 edges; so do the nodes of any facet it can push.

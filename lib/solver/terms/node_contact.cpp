@@ -31,8 +31,16 @@ class NodeContact final : public ForceTerm {
             dt.contact = critical_dt(contact_lambda_bound(f.m, f.s));
     }
     void observe(const Forces& f, Observables& o) const override {
-        const auto& pen = f.contact->penetration();
-        o.inside_pairs = pen.count;
+        // The law's count (the last evaluation) and, under the surface law, the nodes inside
+        // another body's intact material found now (surface_inside.cpp).
+        auto pen = f.contact->penetration();
+        const auto mat = f.contact->inside_material(f.s);
+        if (pen.node < 0 || (mat.node >= 0 && mat.node < pen.node)) {
+            pen.node = mat.node;
+            pen.body = mat.body;
+            pen.inside = mat.inside;
+        }
+        o.inside_pairs = pen.count + mat.count;
         o.inside_node = pen.node;
         o.inside_body = pen.body;
         o.inside_of = pen.inside;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The penetration guard under the surface contact law (solver/surface_contact.cpp): a node that
 // came through another body's boundary stays counted however deep it goes within that body's
-// reach, while a node that appears deep at once (a crack, a new closest facet) is left alone.
+// reach; a node inside another body's intact material is counted whatever its history, one in
+// a crack is not.
 #include "pressed_blocks.hpp"
 #include "solver/solver.hpp"
 
@@ -71,10 +72,11 @@ TEST(SurfaceGuard, ANodeThatWentThroughStaysCounted) {
     EXPECT_EQ(o.inside_pairs, 0);
 }
 
-TEST(SurfaceGuard, ANodeFoundDeepAtOnceIsNotCounted) {
-    // The same blocks moved 1.2 h deeper (h: a's mesh size as the law has it) between two steps at
-    // rest: the depth jumped, so the nodes did not come through a's boundary (in a breaking run: a
-    // crack of a grain behind a facet that still stands). No force and no count, as before.
+TEST(SurfaceGuard, ANodeInsideIntactMaterialIsCountedWithoutHistory) {
+    // The same blocks moved 1.2 h deeper between two steps at rest: the depth jumped, so the
+    // law does not count them (surface_row leaves a jumped pair alone: in a breaking run it may
+    // lie in a crack of a grain behind a facet that still stands). The material test does: the
+    // nodes lie inside a's intact cells a layer below its boundary (surface_inside.cpp).
     const double dx = 2e-4;
     auto m = test::pressed_blocks(0.02 * dx);
     const double h = m.bodies.mesh_size[0];
@@ -84,8 +86,55 @@ TEST(SurfaceGuard, ANodeFoundDeepAtOnceIsNotCounted) {
     test::shift_b(m, s.state(), -1.2 * h);
     s.advance();
     const auto o = s.observe();
-    std::printf("[ jumped ] depth %.3f h: %lld pair(s), contact energy %.3e J\n",
+    std::printf("[ jumped ] depth %.3f h: %lld pair(s), node %lld of body %d in body %d\n",
                 lowest_depth(m, s.state()) / h, static_cast<long long>(o.inside_pairs),
-                o.contact_energy);
-    EXPECT_EQ(o.inside_pairs, 0);
+                static_cast<long long>(o.inside_node), o.inside_body, o.inside_of);
+    EXPECT_GT(o.inside_pairs, 0);
+    EXPECT_EQ(o.inside_body + o.inside_of, 1); // a node of b in a, or of a in b
+}
+
+TEST(SurfaceGuard, ANodeInACrackIsNotCounted) {
+    // A crack through a (its nodes right of x = 0 moved 1.5 dx to the right) and b's lowest
+    // nodes above the gap moved 2.5 h down into it at once (below a layer of cells): they are
+    // behind a's (stretched) top facets, but in no intact cell of a, so nothing counts them; the
+    // same nodes moved as far into a's intact left half are counted.
+    const double dx = 2e-4;
+    for (const bool crack : {true, false}) {
+        auto m = test::pressed_blocks(0.02 * dx);
+        const double h = m.bodies.mesh_size[0];
+        solver::Solver s(m);
+        s.set_dt(0.05 * s.stable_dt().limit);
+        s.initialize();
+        s.advance();
+        auto& st = s.state();
+        for (auto i = m.bodies.begin(0); i < m.bodies.end(0); ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            if (m.nodes.x0[3 * k] > 1e-9) {
+                st.x[3 * k] += 1.5 * dx;
+                st.u[3 * k] += 1.5 * dx;
+            }
+        }
+        // b's lowest nodes over the gap (crack) or over a's left half (no crack).
+        const double x_lo = crack ? 0.2 * dx : -1.3 * dx, x_hi = x_lo + 1.1 * dx;
+        const double y_low = -lowest_depth(m, st);
+        int moved = 0;
+        for (auto i = m.bodies.begin(1); i < m.bodies.end(1); ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            if (st.x[3 * k] > x_lo && st.x[3 * k] < x_hi && st.x[3 * k + 1] < y_low + 0.5 * dx) {
+                st.x[3 * k + 1] -= 2.5 * h;
+                st.u[3 * k + 1] -= 2.5 * h;
+                ++moved;
+            }
+        }
+        s.advance();
+        const auto o = s.observe();
+        std::printf("[ crack ] %s: %d node(s) moved 2.5 h down, %lld pair(s) counted\n",
+                    crack ? "into the crack" : "into intact material", moved,
+                    static_cast<long long>(o.inside_pairs));
+        EXPECT_GT(moved, 0);
+        if (crack)
+            EXPECT_EQ(o.inside_pairs, 0);
+        else
+            EXPECT_GT(o.inside_pairs, 0);
+    }
 }

@@ -426,7 +426,8 @@ void Guards::inside(Run& r, std::int64_t n) {
                                                 o.inside_node, o.inside_body, o.inside_of)
                                   : std::string{};
     // The surface law has no radius to raise: a node h/2 behind a boundary came through a
-    // facet that could not hold the load (a sharp tip, a soft grain pressed hard) or a torn one.
+    // facet that could not hold the load (a sharp tip, a soft grain pressed hard) or through a
+    // gap left by a boundary node that broke off (solver/surface_inside.cpp).
     const std::string advice =
         pen.surface
             ? "Contact failed: the surface law's pressure at h/2 depth (c h / 2) did not hold the "
@@ -441,8 +442,10 @@ void Guards::inside(Run& r, std::int64_t n) {
            fmt::format("{}: grains interpenetrate at step {} (t = {:.6g} s): {} node pair(s) more "
                        "than {} inside another grain{}; {}. {}",
                        r.opt.file, n, r.s.state().time, o.inside_pairs,
-                       pen.surface ? "h/2" : "the contact radius + h/2", where, pen.numbers,
-                       advice),
+                       pen.surface ? "h/2 behind a facet it came through, or in an intact cell a "
+                                     "layer below the boundary,"
+                                   : "the contact radius + h/2",
+                       where, pen.numbers, advice),
            ". The state at this step is the last frame (flagged: /particles/nodes attribute "
            "failed_step), the frames before stay valid; --no-penetration-check runs on");
 }
