@@ -67,7 +67,7 @@ struct Arrays {
         , off(b.offsets.data())
         , nb(b.neighbor.data())
         , xi(b.xi.data())
-        , beta(b.beta.data())
+        , beta(b.beta.empty() ? nullptr : b.beta.data())
         , om(b.omega.data())
         , kb(b.kb.data())
         , wv(b.wv.data())
@@ -80,6 +80,8 @@ struct Arrays {
     double* f;
     const offset_t* off;
     const index_t* nb;
+    /// beta: BondData::beta, nullptr when not kept (bond_beta recomputes it); kb, wv: empty
+    /// when not kept (keeps_kb, an LPS body).
     const double *xi, *beta, *om, *kb, *wv;
     const double* lc; ///< BondData::lc (nullptr: no flaws, xi (1 + s0) of the body)
     const double* op; ///< BondData::op (nullptr: no flaws, 1 + s0 of the body)
@@ -385,8 +387,10 @@ struct Wide {
 
 /// Callers that fill BondData and BodyLaw by hand (tests) get the constants on the first call.
 inline void ensure_constants(const State& s, BondData& b, const BodyLaw& law) {
-    if (b.kb.size() != b.xi.size() || b.lc.size() != (law.any_flaws ? b.xi.size() : 0) ||
-        (!b.omega.empty() && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
+    const bool lps = !b.omega.empty() && law.m.size() == s.n; // as bond_constants
+    if (b.kb.size() != (keeps_kb(law) ? b.xi.size() : 0) ||
+        b.lc.size() != (law.any_flaws ? b.xi.size() : 0) ||
+        (lps && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
         (law.m.size() == s.n && law.lps_ap.size() != 2 * s.n))
         bond_constants(s, b, const_cast<BodyLaw&>(law));
 }
