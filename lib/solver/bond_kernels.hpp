@@ -55,9 +55,9 @@ inline Isa& isa() {
     return v;
 }
 
-/// The arrays of a kernel, set up once per call.
+/// The arrays of a kernel, set up once per call; `law` for beta_of (the LPS kernel).
 struct Arrays {
-    explicit Arrays(State& s, BondData& b)
+    explicit Arrays(State& s, BondData& b, const BodyLaw* law = nullptr)
         : n(static_cast<std::int64_t>(s.rows.size()))
         , rows(s.rows.data())
         , x(s.x.data())
@@ -73,7 +73,10 @@ struct Arrays {
         , wv(b.wv.data())
         , lc(b.lc.empty() ? nullptr : b.lc.data())
         , op(b.op.empty() ? nullptr : b.op.data())
-        , alive(b.alive.data()) {}
+        , alive(b.alive.data())
+        , body(s.body.data())
+        , delta(law ? law->delta.data() : nullptr)
+        , h(law ? law->h.data() : nullptr) {}
     std::int64_t n;
     const index_t* rows;
     const double *x, *v, *vol;
@@ -86,7 +89,18 @@ struct Arrays {
     const double* lc; ///< BondData::lc (nullptr: no flaws, xi (1 + s0) of the body)
     const double* op; ///< BondData::op (nullptr: no flaws, 1 + s0 of the body)
     std::uint8_t* alive;
+    const std::int32_t* body; ///< State::body
+    const double *delta, *h;  ///< BodyLaw::delta, h (bond_beta's), when given
 };
+
+/// Bond k's partial volume, k a bond of node i's row, as bond_beta: the stored factor, or
+/// model::partial_volume of its xi in i's body (the bits build_bonds computed).
+PD_INLINE double beta_of(const Arrays& v, offset_t k, std::int64_t i) {
+    if (v.beta)
+        return v.beta[k];
+    const auto b = static_cast<std::size_t>(v.body[i]);
+    return model::partial_volume(v.xi[k], v.delta[b], v.h[b]);
+}
 
 /// The length at which bond k breaks: its own with flaws, else xi hi (hi = 1 + s0 of the row's
 /// body; inf when unbreakable), the product bond_constants once stored.

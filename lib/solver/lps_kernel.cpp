@@ -52,13 +52,6 @@ struct Lps {
     double by_d(double t) const { return half ? t * 0.5 : t / dd; }
 };
 
-/// Bond k's partial volume in the general paths (the hot loops read w = omega beta V_j): the
-/// stored factor, or, when the solver keeps none (no RNP body), model::partial_volume of its xi
-/// in the row's body, as bond_beta (the bits build_bonds computed).
-PD_INLINE double beta_of(const Arrays& v, const BodyLaw& law, std::size_t body, offset_t k) {
-    return v.beta ? v.beta[k] : model::partial_volume(v.xi[k], law.delta[body], law.h[body]);
-}
-
 // ---- Pass 1: break bonds (tension, and compression when Comp; symmetric inputs), then
 // dilatation, q and P; on observation steps the energy of the rows that stay whole ----
 
@@ -178,9 +171,9 @@ PD_AVX2 PD_INLINE bool pass1_hot_avx2(const Arrays& v, const Lps& w, std::int64_
 /// r's sums and mi = the weighted volume of the intact bonds. hi = 1 + s0 of the row's body
 /// (break_length); lo = 1 - s0 when Comp (bonds shorter than xi lo break too).
 template <bool Breakable, bool Comp, bool Energy>
-[[gnu::noinline]] void pass1_general(const Arrays& v, const BodyLaw& law, std::size_t body,
-                                     std::int64_t a, std::int64_t i, double lo, double hi, Row1& r,
-                                     double& mi, bool& damaged, std::int64_t& broken) {
+[[gnu::noinline]] void pass1_general(const Arrays& v, std::int64_t a, std::int64_t i, double lo,
+                                     double hi, Row1& r, double& mi, bool& damaged,
+                                     std::int64_t& broken) {
     r = Row1{};
     for (offset_t k = v.off[a]; k < v.off[a + 1]; ++k) {
         if (!v.alive[k]) {
@@ -196,7 +189,7 @@ template <bool Breakable, bool Comp, bool Energy>
             ++broken;
             continue;
         }
-        mi += v.om[k] * v.xi[k] * v.xi[k] * beta_of(v, law, body, k) * v.vol[j];
+        mi += v.om[k] * v.xi[k] * v.xi[k] * beta_of(v, k, i) * v.vol[j];
         const double e = l - v.xi[k], wx = v.wv[k] * v.xi[k];
         r.th += wx * e;
         if constexpr (Energy) {
@@ -251,8 +244,8 @@ PD_INLINE void pass1_finish(const Lps& w, const BodyLaw& law, std::size_t body, 
         bool damaged = false;                           /* breaks beyond xi (1 + s0), as b.lc */   \
         const double lo = Comp ? law.s0_lo[body] : 0.0; /* Comp: below xi (1 - s0) */              \
         if (!hot(v, w, i, v.op ? v.op[a] : 1.0 + law.s0[body], lo, v.off[a], v.off[a + 1], r))     \
-            pass1_general<Breakable, Comp, Energy>(v, law, body, a, i, lo, 1.0 + law.s0[body], r,  \
-                                                   mi, damaged, broken);                           \
+            pass1_general<Breakable, Comp, Energy>(v, a, i, lo, 1.0 + law.s0[body], r, mi,         \
+                                                   damaged, broken);                               \
         pass1_finish<Energy>(w, law, body, i, r, mi, damaged, v.vol, energy);                      \
     }
 
@@ -377,7 +370,7 @@ struct Row2 {
         if (v.alive[k] != 1) {
             if (v.alive[k] == 2) { // broken in pass 1: its share of the dilatation before
                 r.fresh = true;
-                r.th_new += v.om[k] * v.xi[k] * (l - v.xi[k]) * beta_of(v, law, body, k) * v.vol[j];
+                r.th_new += v.om[k] * v.xi[k] * (l - v.xi[k]) * beta_of(v, k, i) * v.vol[j];
             }
             if (l < rr) { // fragments repel across broken bonds (spec 4.7)
                 const double ar = kr * (l - rr) * v.vol[j] / l;
@@ -413,7 +406,7 @@ struct Row2 {
         const index_t j = v.nb[k];
         double d[3];
         const double ed = bond_d(v.x, i, j, d) - v.xi[k] - th_b * v.xi[k] / dd;
-        const double bk = beta_of(v, law, body, k);
+        const double bk = beta_of(v, k, i);
         wdev_b += v.om[k] * ed * ed * bk * v.vol[j];
         mi_b += v.om[k] * v.xi[k] * v.xi[k] * bk * v.vol[j];
     }
@@ -437,7 +430,7 @@ struct Row2 {
             v.alive[k] == 1 ? v.om[k] * (p_i * v.xi[k] +
                                          a_i * (e - w.theta[i] * v.xi[k] / dd - w.q[i] * v.xi[k]))
                             : 0.0;
-        pw += (t_b - t_a) * beta_of(v, law, body, k) * v.vol[j] * rate;
+        pw += (t_b - t_a) * beta_of(v, k, i) * v.vol[j] * rate;
         if (v.alive[k] == 2)
             v.alive[k] = 0;
     }
@@ -528,7 +521,7 @@ PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const 
 /// nothing).
 template <bool Breakable, bool Energy, bool Comp>
 BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
-    const Arrays v(s, b);
+    const Arrays v(s, b, &law);
     const Lps w(b, law);
     Sums r;
     switch (kernels::isa()) {
