@@ -18,12 +18,15 @@ namespace {
 /// fitted to /usr/bin/time's maximum RSS of `pd-solve --steps 1` on PMB grid blocks (3D) and
 /// plates (2D) of 0.13-2.0 M nodes and 22-84 M bonds (workflows/bench/RESULTS.md, issue 29
 /// item 3): base_bytes + bytes_per_node per node + bytes_per_bond per bond entry (i-j and j-i
-/// both), within 1 % of each. A bond of an LPS or RNP body costs more (its influence and
-/// partial volume, and the kernels' work arrays per bond), measured on LPS blocks the same way.
+/// both), within 1 % of each. A bond of an LPS or RNP body costs more (its influence, the LPS
+/// weighted volume factor and the LPS kernel's two work arrays per bond; an RNP bond its partial
+/// volume instead of the last three), measured on 3D LPS blocks the same way (h = 1.25 and 1.0
+/// mm: 45.3 B per bond with the PMB fit's base and per-node terms, from 63.7 before the LPS
+/// bonds dropped kb and beta; RESULTS.md "Issue 29 item 3: LPS bytes per bond").
 constexpr double base_bytes = 60e6;
 constexpr double bytes_per_node = 385;
 constexpr double bytes_per_bond = 22;
-constexpr double bytes_per_state_bond = 63;
+constexpr double bytes_per_state_bond = 46;
 
 std::string human_bytes(double b) {
     const char* unit[] = {"B", "KB", "MB", "GB", "TB", "PB"};

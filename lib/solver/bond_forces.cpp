@@ -397,15 +397,30 @@ void flaw_row(const State& s, BondData& b, const BodyLaw& law, std::size_t a, st
 
 void bond_constants(const State& s, BondData& b, BodyLaw& law, std::vector<double> stiff) {
     const auto nbond = b.xi.size();
-    if (stiff.empty())
-        stiff = b.beta;
-    PD_CHECK(stiff.size() == nbond, "bond_constants: a stiffness factor per bond");
+    const bool kb = keeps_kb(law), lps = !b.omega.empty() && law.m.size() == s.n;
+    if (stiff.empty() && kb) {
+        stiff.resize(nbond);
+        for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a) {
+            const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(s.rows[a])]);
+            for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k)
+                stiff[static_cast<std::size_t>(k)] =
+                    bond_beta(b, law, body, static_cast<std::size_t>(k));
+        }
+    }
+    if (!kb) { // freed before the LPS arrays are made: one per-bond array fewer at the peak
+        stiff.clear();
+        stiff.shrink_to_fit();
+    }
+    PD_CHECK(stiff.size() == (kb ? nbond : 0), "bond_constants: a stiffness factor per bond");
     b.kb.clear(); // stiff becomes kb in place
     b.kb.shrink_to_fit();
     b.lc.assign(law.any_flaws ? nbond : 0, 0.0);
-    b.wv.assign(b.omega.empty() ? 0 : nbond, 0.0);
-    b.len.assign(b.wv.size(), 0.0);
+    b.wv.assign(lps ? nbond : 0, 0.0);
+    b.wv.shrink_to_fit();
+    b.len.assign(b.wv.size(), 0.0); // the LPS kernel's work arrays (their values are not read)
+    b.len.shrink_to_fit();
     b.inv_len.assign(b.wv.size(), 0.0);
+    b.inv_len.shrink_to_fit();
     b.op.assign(law.any_flaws ? b.offsets.size() - 1 : 0, 0.0);
     for (std::size_t a = 0; a + 1 < b.offsets.size(); ++a) {
         const auto body = static_cast<std::size_t>(s.body[static_cast<std::size_t>(s.rows[a])]);
@@ -413,12 +428,13 @@ void bond_constants(const State& s, BondData& b, BodyLaw& law, std::vector<doubl
         for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
             const auto kk = static_cast<std::size_t>(k);
             const double vj = s.vol[static_cast<std::size_t>(b.neighbor[kk])];
-            stiff[kk] = law.c[body] * stiff[kk] * vj / b.xi[kk];
+            if (kb)
+                stiff[kk] = law.c[body] * stiff[kk] * vj / b.xi[kk];
             if (law.any_flaws)
                 b.lc[kk] = std::isfinite(s0) ? b.xi[kk] * (1.0 + s0)
                                              : std::numeric_limits<double>::infinity();
-            if (!b.wv.empty())
-                b.wv[kk] = b.omega[kk] * b.beta[kk] * vj;
+            if (lps)
+                b.wv[kk] = b.omega[kk] * bond_beta(b, law, body, kk) * vj;
         }
         if (law.any_flaws)
             flaw_row(s, b, law, a, body);

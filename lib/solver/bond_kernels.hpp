@@ -55,9 +55,9 @@ inline Isa& isa() {
     return v;
 }
 
-/// The arrays of a kernel, set up once per call.
+/// The arrays of a kernel, set up once per call; `law` for beta_of (the LPS kernel).
 struct Arrays {
-    explicit Arrays(State& s, BondData& b)
+    explicit Arrays(State& s, BondData& b, const BodyLaw* law = nullptr)
         : n(static_cast<std::int64_t>(s.rows.size()))
         , rows(s.rows.data())
         , x(s.x.data())
@@ -67,24 +67,40 @@ struct Arrays {
         , off(b.offsets.data())
         , nb(b.neighbor.data())
         , xi(b.xi.data())
-        , beta(b.beta.data())
+        , beta(b.beta.empty() ? nullptr : b.beta.data())
         , om(b.omega.data())
         , kb(b.kb.data())
         , wv(b.wv.data())
         , lc(b.lc.empty() ? nullptr : b.lc.data())
         , op(b.op.empty() ? nullptr : b.op.data())
-        , alive(b.alive.data()) {}
+        , alive(b.alive.data())
+        , body(s.body.data())
+        , delta(law ? law->delta.data() : nullptr)
+        , h(law ? law->h.data() : nullptr) {}
     std::int64_t n;
     const index_t* rows;
     const double *x, *v, *vol;
     double* f;
     const offset_t* off;
     const index_t* nb;
+    /// beta: BondData::beta, nullptr when not kept (bond_beta recomputes it); kb, wv: empty
+    /// when not kept (keeps_kb, an LPS body).
     const double *xi, *beta, *om, *kb, *wv;
     const double* lc; ///< BondData::lc (nullptr: no flaws, xi (1 + s0) of the body)
     const double* op; ///< BondData::op (nullptr: no flaws, 1 + s0 of the body)
     std::uint8_t* alive;
+    const std::int32_t* body; ///< State::body
+    const double *delta, *h;  ///< BodyLaw::delta, h (bond_beta's), when given
 };
+
+/// Bond k's partial volume, k a bond of node i's row, as bond_beta: the stored factor, or
+/// model::partial_volume of its xi in i's body (the bits build_bonds computed).
+PD_INLINE double beta_of(const Arrays& v, offset_t k, std::int64_t i) {
+    if (v.beta)
+        return v.beta[k];
+    const auto b = static_cast<std::size_t>(v.body[i]);
+    return model::partial_volume(v.xi[k], v.delta[b], v.h[b]);
+}
 
 /// The length at which bond k breaks: its own with flaws, else xi hi (hi = 1 + s0 of the row's
 /// body; inf when unbreakable), the product bond_constants once stored.
@@ -385,8 +401,10 @@ struct Wide {
 
 /// Callers that fill BondData and BodyLaw by hand (tests) get the constants on the first call.
 inline void ensure_constants(const State& s, BondData& b, const BodyLaw& law) {
-    if (b.kb.size() != b.xi.size() || b.lc.size() != (law.any_flaws ? b.xi.size() : 0) ||
-        (!b.omega.empty() && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
+    const bool lps = !b.omega.empty() && law.m.size() == s.n; // as bond_constants
+    if (b.kb.size() != (keeps_kb(law) ? b.xi.size() : 0) ||
+        b.lc.size() != (law.any_flaws ? b.xi.size() : 0) ||
+        (lps && (b.wv.size() != b.xi.size() || b.len.size() != b.xi.size())) ||
         (law.m.size() == s.n && law.lps_ap.size() != 2 * s.n))
         bond_constants(s, b, const_cast<BodyLaw&>(law));
 }

@@ -173,8 +173,9 @@ void build_bonds(Forces& f, std::vector<index_t>& row_neighbors) {
         row_neighbors.clear();
     }
     f.b.xi.resize(nbond);
-    // beta only where a kernel reads it (LPS, RNP); PMB's is folded into kb (bond_beta).
-    const bool keep_beta = f.law.any_lps || f.law.any_rnp;
+    // beta only where a kernel reads it per bond (RNP); PMB's is folded into kb, LPS's into wv,
+    // and both are recomputed where needed (bond_beta: the same partial_volume call).
+    const bool keep_beta = f.law.any_rnp;
     f.b.beta.assign(keep_beta ? nbond : 0, 0.0);
     f.b.beta.shrink_to_fit();
     f.b.alive.assign(nbond, 1);
@@ -211,17 +212,6 @@ void family_factors(Forces& f) {
     // Per-node sums over a node's family, of the owned rows; the ghosts' values come from their
     // owners (the bond ghosts must be set).
     const std::size_t nr = f.s.rows.size(), n = f.s.n;
-    auto own_sum = [&](auto&& term, std::vector<double>& out) {
-        out.assign(n, 0.0);
-        for (std::size_t a = 0; a < nr; ++a) {
-            double sum = 0;
-            for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
-                const auto kk = static_cast<std::size_t>(k);
-                sum += term(kk, f.s.vol[static_cast<std::size_t>(f.b.neighbor[kk])]);
-            }
-            out[static_cast<std::size_t>(f.s.rows[a])] = sum;
-        }
-    };
     // Surface correction (solver.surface_correction; model/surface_correction.hpp): per-node
     // axis factors relative to a complete family of the body, a directional factor per bond on
     // the PMB micromodulus or the LPS influence function (before m_i is summed from it).
@@ -250,10 +240,18 @@ void family_factors(Forces& f) {
         }
     }
     if (f.law.any_lps) {
-        // LPS weighted volume m_i = sum_j w xi^2 beta V_j (spec 1.3).
-        own_sum([&](std::size_t k,
-                    double vj) { return f.b.omega[k] * f.b.xi[k] * f.b.xi[k] * f.b.beta[k] * vj; },
-                f.law.m);
+        // LPS weighted volume m_i = sum_j w xi^2 beta V_j (spec 1.3), summed in bond order.
+        f.law.m.assign(n, 0.0);
+        for (std::size_t a = 0; a < nr; ++a) {
+            const auto body = body_of(a);
+            double sum = 0;
+            for (auto k = f.b.offsets[a]; k < f.b.offsets[a + 1]; ++k) {
+                const auto kk = static_cast<std::size_t>(k);
+                sum += f.b.omega[kk] * f.b.xi[kk] * f.b.xi[kk] * bond_beta(f.b, f.law, body, kk) *
+                       f.s.vol[static_cast<std::size_t>(f.b.neighbor[kk])];
+            }
+            f.law.m[static_cast<std::size_t>(f.s.rows[a])] = sum;
+        }
         for (auto row : f.s.rows) {
             auto& w = f.law.m[static_cast<std::size_t>(row)];
             w = w > 0 ? w : 1.0; // a node with no bond has theta = 0 and no force

@@ -189,7 +189,7 @@ template <bool Breakable, bool Comp, bool Energy>
             ++broken;
             continue;
         }
-        mi += v.om[k] * v.xi[k] * v.xi[k] * v.beta[k] * v.vol[j];
+        mi += v.om[k] * v.xi[k] * v.xi[k] * beta_of(v, k, i) * v.vol[j];
         const double e = l - v.xi[k], wx = v.wv[k] * v.xi[k];
         r.th += wx * e;
         if constexpr (Energy) {
@@ -370,7 +370,7 @@ struct Row2 {
         if (v.alive[k] != 1) {
             if (v.alive[k] == 2) { // broken in pass 1: its share of the dilatation before
                 r.fresh = true;
-                r.th_new += v.om[k] * v.xi[k] * (l - v.xi[k]) * v.beta[k] * v.vol[j];
+                r.th_new += v.om[k] * v.xi[k] * (l - v.xi[k]) * beta_of(v, k, i) * v.vol[j];
             }
             if (l < rr) { // fragments repel across broken bonds (spec 4.7)
                 const double ar = kr * (l - rr) * v.vol[j] / l;
@@ -406,8 +406,9 @@ struct Row2 {
         const index_t j = v.nb[k];
         double d[3];
         const double ed = bond_d(v.x, i, j, d) - v.xi[k] - th_b * v.xi[k] / dd;
-        wdev_b += v.om[k] * ed * ed * v.beta[k] * v.vol[j];
-        mi_b += v.om[k] * v.xi[k] * v.xi[k] * v.beta[k] * v.vol[j];
+        const double bk = beta_of(v, k, i);
+        wdev_b += v.om[k] * ed * ed * bk * v.vol[j];
+        mi_b += v.om[k] * v.xi[k] * v.xi[k] * bk * v.vol[j];
     }
     const double q_b = th_b / dd * (1.0 - mi_b / mw);
     const double p_i = w.kt[i] * w.theta[i];
@@ -429,7 +430,7 @@ struct Row2 {
             v.alive[k] == 1 ? v.om[k] * (p_i * v.xi[k] +
                                          a_i * (e - w.theta[i] * v.xi[k] / dd - w.q[i] * v.xi[k]))
                             : 0.0;
-        pw += (t_b - t_a) * v.beta[k] * v.vol[j] * rate;
+        pw += (t_b - t_a) * beta_of(v, k, i) * v.vol[j] * rate;
         if (v.alive[k] == 2)
             v.alive[k] = 0;
     }
@@ -520,7 +521,7 @@ PD_AVX2 Sums lps_rows_avx2(const Arrays& v, const Lps& w, const State& s, const 
 /// nothing).
 template <bool Breakable, bool Energy, bool Comp>
 BondResult lps_kernel(State& s, BondData& b, BodyLaw& law, const std::function<void()>& between) {
-    const Arrays v(s, b);
+    const Arrays v(s, b, &law);
     const Lps w(b, law);
     Sums r;
     switch (kernels::isa()) {

@@ -71,7 +71,7 @@ class BondOperator {
         , xi_(b.xi)
         , law_(law)
         , dom_(dom) {
-        PD_CHECK(b.kb.size() == b.xi.size(), "bond_constants before the stability estimate");
+        PD_CHECK(b.kb.size() == (keeps_kb(law) ? b.xi.size() : 0), "bond_constants first");
         const std::size_t n = s.n;
         scale_.assign(n, 0.0);
         for (auto row : s.rows) {
@@ -94,24 +94,16 @@ class BondOperator {
                 const auto i = static_cast<std::size_t>(s.rows[a]);
                 if (!law.lps[static_cast<std::size_t>(s.body[i])])
                     continue;
-                double mi = 0;
                 bool damaged = false;
-                for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k) {
-                    const auto kk = static_cast<std::size_t>(k);
-                    if (!b.alive[kk]) {
-                        damaged = true;
-                        continue;
-                    }
-                    mi += b.omega[kk] * b.xi[kk] * b.xi[kk] * b.beta[kk] *
-                          s.vol[static_cast<std::size_t>(b.neighbor[kk])];
-                }
+                const double mi = intact_weighted_volume(s, b, law, a, damaged);
                 g_[i] = damaged ? 1.0 - mi / law.m[i] : 0.0;
             }
             dth_.assign(n, 0.0);
             dq_.assign(n, 0.0);
         }
         w_.assign(3 * n, 0.0);
-        if (compact)
+        // No PMB kernel (keeps_kb): no moving PMB row, every c 0 and margin 0 (the same bits).
+        if (compact && keeps_kb(law))
             compact_coefficients();
     }
     BondOperator(const BondOperator&) = delete;
@@ -175,7 +167,8 @@ class BondOperator {
         const double dd = law_.dimension;
         for (std::size_t a = 0; a < nr; ++a) {
             const auto i = static_cast<std::size_t>(s_.rows[a]);
-            if (!law_.lps[static_cast<std::size_t>(s_.body[i])] || scale_[i] == 0) {
+            const auto bd = static_cast<std::size_t>(s_.body[i]); // bond_beta's body
+            if (!law_.lps[bd] || scale_[i] == 0) {
                 dth_[i] = dq_[i] = 0;
                 continue;
             }
@@ -187,7 +180,8 @@ class BondOperator {
                 const auto j = static_cast<std::size_t>(b_.neighbor[kk]);
                 double e[3], l;
                 dir(i, j, e, l);
-                th += b_.omega[kk] * b_.xi[kk] * proj(i, j, e) * b_.beta[kk] * vol[j];
+                th +=
+                    b_.omega[kk] * b_.xi[kk] * proj(i, j, e) * bond_beta(b_, law_, bd, kk) * vol[j];
             }
             dth_[i] = dd * th / law_.m[i];
             dq_[i] = g_[i] * dth_[i] / dd;
@@ -389,7 +383,7 @@ class BondOperator {
             // (bonds may still break during the run).
             double k_pair = law_.krep[body] * vol[j];
             if (!law_.lps[body])
-                k_pair = std::max(k_pair, b_.kb[kk]);
+                k_pair = std::max(k_pair, bond_kb(b_, law_, body, kk, vol[j]));
             return k_pair * de;
         }
         if (law_.lps[body]) {
@@ -401,7 +395,7 @@ class BondOperator {
             const double t_ji = b_.omega[kk] * (dd * kap * dth_[j] / law_.m[j] * xi +
                                                 law_.alpha * mu / law_.m[j] *
                                                     (de - dth_[j] * xi / dd - dq_[j] * xi));
-            return (t_ij + t_ji) * b_.beta[kk] * vol[j];
+            return (t_ij + t_ji) * bond_beta(b_, law_, body, kk) * vol[j];
         }
         // kb = c stiff V_j / xi, evaluated in this order by bond_constants: the same bits as
         // the expression, without its division per bond and Lanczos step.
@@ -470,10 +464,7 @@ BondSpectrum bond_spectrum(const State& s, BondData& b, const BodyLaw& law, Doma
             const auto i = static_cast<std::size_t>(s.rows[a]);
             if (!s.moving[i])
                 continue;
-            double k = 0; // kb = c beta G V_j / xi, as this sum once computed it
-            for (auto kk = b.offsets[a]; kk < b.offsets[a + 1]; ++kk)
-                k += b.kb[static_cast<std::size_t>(kk)];
-            k_max = std::max(k_max, 2.0 * k / s.rho[i]);
+            k_max = std::max(k_max, 2.0 * row_kb_sum(s, b, law, a) / s.rho[i]);
         }
         r.ritz = dom.max(k_max);
         return r;

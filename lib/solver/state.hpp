@@ -102,15 +102,17 @@ using UnloadMap = std::map<std::pair<std::int32_t, std::int32_t>, double>;
 /// The bond rows of this rank's nodes only: row a is node State::rows[a] (all rows on one rank),
 /// neighbours are global node ids. Other ranks' rows are never stored, so bond memory per rank
 /// shrinks with the rank count. Per bond the solver keeps what its loops read: a PMB bond 21
-/// bytes (neighbour, xi, kb, alive), 29 with flaws (lc); set-up quantities (the partial volume
-/// beta of a PMB bond, its surface-correction factor) are recomputed or folded into kb (issue
-/// 29 item 3).
+/// bytes (neighbour, xi, kb, alive), 29 with flaws (lc); an LPS bond 45 (neighbour, xi, omega,
+/// wv, alive and the work arrays len, inv_len), an RNP bond 29 (neighbour, xi, beta, omega, alive).
+/// Set-up quantities (the partial volume beta outside RNP, kb outside PMB, a PMB bond's
+/// surface-correction factor) are recomputed or folded into kb (issue 29 item 3).
 struct BondData {
     std::vector<offset_t> offsets; ///< rows.size() + 1
     std::vector<index_t> neighbor;
     std::vector<double> xi; ///< reference bond length, m
-    /// Partial-volume factor (spec 1.3), kept only when an LPS or RNP body is moving (their
-    /// kernels read it); else empty, and bond_beta() recomputes it from xi (the same bits).
+    /// Partial-volume factor (spec 1.3), kept only when an RNP body is moving (its kernel reads
+    /// it per bond); else empty, and bond_beta() recomputes it from xi (the same bits: the same
+    /// model::partial_volume call build_bonds makes).
     std::vector<double> beta;
     std::vector<double> omega;       ///< influence J(xi / delta) (state-based law; else empty)
     std::vector<std::uint8_t> alive; ///< 1 intact, 0 broken
@@ -118,7 +120,8 @@ struct BondData {
     // (Solver::family_factors; recomputed whenever the rows change), so the bond loops do one
     // sqrt and one division per bond:
     /// PMB: c beta G V_j / xi (force density = kb (l - xi) / l; G the surface correction's
-    /// factor, 1 without it), N m-7
+    /// factor, 1 without it), N m-7. Kept only when the PMB kernel runs (keeps_kb()); else empty
+    /// and bond_kb() recomputes c beta V_j / xi (no moving PMB body: no factor G in any bond's).
     std::vector<double> kb;
     std::vector<double> wv; ///< LPS: omega beta V_j, m3
     /// With flaws only (else empty: the length is xi (1 + s0) of the row's body, the same
@@ -130,7 +133,8 @@ struct BondData {
     /// LPS work arrays from the dilatation pass for the force pass: `len` holds
     /// omega beta V_j e / l and `inv_len` omega beta V_j xi / l (e = l - xi, l = |x_j - x_i|), so
     /// both passes do one sqrt and one division per bond, and the force pass's bond force is
-    /// (A_i + A_j) len + (P_i + P_j) inv_len.
+    /// (A_i + A_j) len + (P_i + P_j) inv_len. (One array of l instead, the force pass dividing,
+    /// saves 8 B per bond but made the 3D LPS hot loop 6-9 % slower: workflows/bench/RESULTS.md.)
     std::vector<double> len, inv_len;
 };
 

@@ -136,6 +136,10 @@ TEST(BondRows, PerBondStorageFitsTheMemoryGuard) {
         EXPECT_GT(per_bond, 0.5 * guard) << law; // the guard is not far above either
         if (law == "pmb") {
             EXPECT_EQ(per_bond, 21.0); // neighbour, xi, kb, alive
+        } else if (law == "lps") {
+            EXPECT_EQ(per_bond, 45.0); // neighbour, xi, omega, wv, alive, len, inv_len
+        } else {
+            EXPECT_EQ(per_bond, 29.0); // neighbour, xi, beta, omega, alive
         }
     }
 }
