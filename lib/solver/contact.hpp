@@ -188,8 +188,9 @@ class ContactList {
     double surface_energy(const State& s) const;
     /// update() for the surface law (surface_tear.cpp): the rebuild test, the torn flags.
     bool update_surface(State& s, const Domain& dom, const BondData* b, std::int64_t broken);
-    /// The flags of the owned facet vertices from their bond rows; true if one fell to 0.
-    bool count_whole(const State& s, const BondData& b);
+    /// The flags of the owned facet vertices and interior cells' vertices from their bond rows;
+    /// true if a facet vertex's fell to 0 (cells_fell: an interior vertex's did).
+    bool count_whole(const State& s, const BondData& b, bool& cells_fell);
     /// sphere_ per facet at s (with torn_flag: reach -1 for a torn facet).
     void facet_spheres(const State& s, bool torn_flag) const;
     struct Event;
@@ -274,8 +275,9 @@ class ContactList {
     // Surface law.
     bool any_surface_ = false, any_node_ = false;
     Facets facets_;
-    std::vector<double> h_body_;      ///< per body: mesh size h (the penetration guard's h / 2)
-    std::vector<std::uint8_t> whole_; ///< per node: 0 a facet vertex that lost half its bonds
+    std::vector<double> h_body_; ///< per body: mesh size h (the penetration guard's h / 2)
+    /// per node: 0 a facet vertex (or a vertex of icells_) that lost half its bonds
+    std::vector<std::uint8_t> whole_;
     /// The cells of the surface-law bodies' meshes with no facet vertex (global node ids,
     /// icell_npc_ per cell) and node -> those cells (CSR): inside_material.
     std::vector<index_t> icells_;

